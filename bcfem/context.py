@@ -1,0 +1,56 @@
+"""The context handed to every energy term: mesh, displacement, kinematics, states.
+
+A term asks the context for what it needs. Global unknowns (a cavity pressure,
+a debond radius, a load factor) are created on demand on dolfinx's real element
+with :meth:`Context.real_state`; the problem builder later collects every state
+the terms asked for. Run-time parameters are ``fem.Constant`` so forms compile
+once.
+"""
+
+from __future__ import annotations
+
+import basix.ufl
+import dolfinx
+from dolfinx import fem
+
+
+class Context:
+    """States and shared objects of one model.
+
+    Args:
+        u: the displacement field (the first state).
+        kinematics: the kinematics object of the model (e.g. AxisymmetricMembrane).
+    """
+
+    def __init__(self, u: fem.Function, kinematics):
+        self.u = u
+        self.kin = kinematics
+        self.mesh = u.function_space.mesh
+        self._real_space = None
+        self._states: dict[str, fem.Function] = {"displacement": u}
+        self._constants: dict[str, fem.Constant] = {}
+
+    @property
+    def real_space(self) -> fem.FunctionSpace:
+        if self._real_space is None:
+            element = basix.ufl.real_element(self.mesh.basix_cell(), value_shape=(),
+                                             dtype=dolfinx.default_real_type)
+            self._real_space = fem.functionspace(self.mesh, element)
+        return self._real_space
+
+    def real_state(self, name: str) -> fem.Function:
+        """The global scalar unknown ``name``, created on first request."""
+        if name not in self._states:
+            self._states[name] = fem.Function(self.real_space, name=name)
+        return self._states[name]
+
+    def constant(self, name: str, value: float = 0.0) -> fem.Constant:
+        """The run-time parameter ``name``; ``value`` is used only on creation."""
+        if name not in self._constants:
+            self._constants[name] = fem.Constant(self.mesh, dolfinx.default_scalar_type(value))
+        return self._constants[name]
+
+    @property
+    def states(self) -> dict[str, fem.Function]:
+        """All unknowns, displacement first, in creation order."""
+        return dict(self._states)

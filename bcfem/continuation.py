@@ -1,0 +1,282 @@
+r"""Load paths: pseudo-arc-length continuation and volume (constraint) stepping.
+
+Arc-length: the load parameter :math:`\lambda` (a real-space state, e.g. the
+cavity pressure) gets the arc-length equation as its residual row,
+
+.. math:: \frac{1}{A}\int t_u\cdot(u - u_a)\,dA + t_\lambda(\lambda - \lambda_a) = 0,
+
+a hyperplane through the predictor :math:`x_a = x_k + \sigma t_k` orthogonal
+to the unit tangent :math:`t_k`. The norm is the reference-area mean, so the
+step is mesh independent. The row is one more real-space row in the blocked
+system, so Newton, step control and retries are ours and the linear algebra is
+PETSc's (MUMPS). The tangent at a converged point solves
+:math:`[F_x; t_{k-1}^T]\,\tau = e_\lambda`; its λ-component changes sign at a
+limit point, which is then located by Brent's method on the arc length,
+to ``event_tol``.
+
+Every step is checked: an unconverged or non-finite Newton solve is never
+accepted; the step is halved and retried down to ``ds_min``, then
+:class:`ContinuationError` names where it stopped.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from scipy.optimize import brentq
+
+from bcfem.log import progress
+from bcfem.mpi import global_sum, real_value
+from bcfem.params import ContinuationParams
+
+
+class ContinuationError(RuntimeError):
+    """The continuation could not go on; the message says where and why."""
+
+
+@dataclass
+class LimitPoint:
+    """A fold of the load parameter along the branch (dλ/ds = 0)."""
+
+    kind: str  # "max" or "min" of the load parameter
+    s: float
+    values: dict
+
+
+@dataclass
+class Branch:
+    """Converged points, in order along the path, with their observables."""
+
+    rows: list[dict] = field(default_factory=list)
+    limit_points: list[LimitPoint] = field(default_factory=list)
+    newton_iterations: int = 0
+    failed_steps: int = 0
+    wall_time_s: float = 0.0
+
+    def column(self, key: str) -> np.ndarray:
+        return np.array([row[key] for row in self.rows])
+
+
+class ArcLength:
+    """Pseudo-arc-length continuation in the load parameter ``parameter``.
+
+    Build the problem with ``rows=arc.rows()`` so the parameter's residual is
+    the arc-length equation, then call :meth:`trace`.
+
+    Args:
+        ctx: the model context (must already hold the parameter state).
+        parameter: name of the real-space state that acts as the load.
+        params: step control.
+    """
+
+    def __init__(self, ctx, parameter: str = "pressure", params: ContinuationParams = ContinuationParams()):
+        self.ctx = ctx
+        self.params = params
+        self.parameter = parameter
+        lam = ctx.real_state(parameter)
+        u = ctx.u
+        V = u.function_space
+        self.t_u = fem.Function(V, name="tangent")
+        self.u_anchor = fem.Function(V, name="anchor")
+        self.t_lam = fem.Constant(ctx.mesh, 0.0)
+        self.lam_anchor = fem.Constant(ctx.mesh, 0.0)
+        kin, area = ctx.kin, ctx.kin.reference_area
+        q = ufl.TestFunction(lam.function_space)
+        self._row = kin.integral((ufl.inner(self.t_u, u - self.u_anchor)
+                                  + self.t_lam * (lam - self.lam_anchor)) * q / area)
+        self._work = fem.Function(V)
+        self._norm2 = fem.form(kin.integral(ufl.inner(self._work, self._work) / area))
+
+    def rows(self) -> dict:
+        return {self.parameter: self._row}
+
+    # -- vector helpers on lists of local arrays ------------------------------------------
+    def _index(self, problem) -> tuple[int, int]:
+        return problem.names.index("displacement"), problem.names.index(self.parameter)
+
+    def _norm(self, problem, vec: list[np.ndarray]) -> float:
+        iu, il = self._index(problem)
+        self._work.x.array[:] = vec[iu]
+        return math.sqrt(global_sum(self._norm2) + float(vec[il][0]) ** 2)
+
+    def _set_hyperplane(self, problem, tangent, anchor) -> None:
+        iu, il = self._index(problem)
+        self.t_u.x.array[:] = tangent[iu]
+        self.u_anchor.x.array[:] = anchor[iu]
+        self.t_lam.value = float(tangent[il][0])
+        self.lam_anchor.value = float(anchor[il][0])
+
+    def _tangent(self, problem) -> list[np.ndarray]:
+        """Unit tangent at the current (converged) state, oriented along the current row."""
+        rhs_functions = [fem.Function(s.function_space) for s in problem.states]
+        rhs_functions[self._index(problem)[1]].x.array[:] = 1.0
+        y = problem.solve_jacobian(problem.vector_from(rhs_functions))
+        problem.functions_from(y, rhs_functions)
+        tangent = [f.x.array.copy() for f in rhs_functions]
+        norm = self._norm(problem, tangent)
+        return [t / norm for t in tangent]
+
+    def _solve_at(self, problem, base, tangent, sigma) -> bool:
+        anchor = [b + sigma * t for b, t in zip(base, tangent)]
+        self._set_hyperplane(problem, tangent, anchor)
+        problem.restore(anchor)  # the predictor is the initial guess
+        return problem.solve()
+
+    # -- the path -------------------------------------------------------------------------
+    def start(self, problem, value: float) -> None:
+        """Converge at fixed load ``value`` from the current states (the row is λ = value)."""
+        iu, il = self._index(problem)
+        zero = [np.zeros_like(s.x.array) for s in problem.states]
+        zero[il][:] = 1.0
+        anchor = problem.save()
+        anchor[il][:] = value
+        self._set_hyperplane(problem, zero, anchor)
+        problem.state(self.parameter).x.array[:] = value
+        if not problem.solve():
+            raise ContinuationError(
+                f"no converged start at {self.parameter} = {value:g} "
+                f"(SNES reason {problem.reason}); give a better initial guess")
+
+    def trace(self, problem, observe: Callable[[], dict], end: Callable[[dict], float],
+              progress_keys: tuple[str, ...] = ()) -> Branch:
+        """Follow the branch from the current converged state until ``end(values)`` crosses zero.
+
+        Args:
+            problem: built with ``rows=self.rows()``; its states hold a converged start.
+            observe: collective; returns the observables of the current state.
+            end: the branch ends where this changes sign from negative to positive
+                (located to ``event_tol``, and the last row is that point).
+            progress_keys: observables shown in the progress line.
+        """
+        p = self.params
+        t0 = time.perf_counter()
+        branch = Branch()
+        s = 0.0
+        values = observe()
+        base = problem.save()
+        tangent = self._tangent(problem)
+        values["s"] = s
+        branch.rows.append(values)
+        if end(values) >= 0:
+            raise ContinuationError("the branch starts beyond its end point")
+        ds = p.ds
+        il = self._index(problem)[1]
+        for step in range(1, p.max_steps + 1):
+            while True:
+                if self._solve_at(problem, base, tangent, ds):
+                    new_tangent = self._tangent(problem)
+                    break
+                branch.failed_steps += 1
+                ds *= 0.5
+                if ds < p.ds_min:
+                    problem.restore(base)
+                    raise ContinuationError(
+                        f"step {step}: Newton failed (SNES reason {problem.reason}) even at "
+                        f"ds < ds_min = {p.ds_min:g}; last converged point: "
+                        + ", ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
+            branch.newton_iterations += problem.iterations
+            its = max(problem.iterations, 1)
+            new_values = observe()
+            new_values["s"] = s + ds
+
+            accepted = problem.save()
+            if end(new_values) >= 0:
+                sigma = self._locate(problem, base, tangent, ds,
+                                     lambda: end(observe()), end(values), end(new_values))
+                last = observe()
+                last["s"] = s + sigma
+                last_state, last_tangent = problem.save(), self._tangent(problem)
+                if np.sign(last_tangent[il][0]) != np.sign(tangent[il][0]):
+                    branch.limit_points.append(self._locate_fold(
+                        problem, base, tangent, sigma, s, observe, float(last_tangent[il][0])))
+                    problem.restore(last_state)
+                branch.rows.append(last)
+                break
+            if np.sign(new_tangent[il][0]) != np.sign(tangent[il][0]):
+                branch.limit_points.append(self._locate_fold(
+                    problem, base, tangent, ds, s, observe, float(new_tangent[il][0])))
+                problem.restore(accepted)
+            branch.rows.append(new_values)
+            base, tangent, values, s = problem.save(), new_tangent, new_values, s + ds
+            progress(f"step {step:4d}  s={s:.4f}  ds={ds:.3g}  its={problem.iterations}  "
+                     + "  ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
+            ds = min(p.ds_max, ds * min(2.0, max(0.5, p.target_iterations / its)))
+        else:
+            raise ContinuationError(f"max_steps = {p.max_steps} reached before the end point")
+        branch.wall_time_s = time.perf_counter() - t0
+        return branch
+
+    def _locate(self, problem, base, tangent, ds, f_now, f0, f1) -> float:
+        """Root in (0, ds) of ``f_now`` along the hyperplanes from ``base``; states end at the root."""
+
+        def f(sigma):
+            if sigma <= 0:
+                return f0
+            if sigma >= ds:
+                return f1
+            if not self._solve_at(problem, base, tangent, sigma):
+                raise ContinuationError(f"Newton failed inside an accepted step (sigma={sigma:g})")
+            return f_now()
+
+        sigma = brentq(f, 0.0, ds, xtol=self.params.event_tol, rtol=4 * np.finfo(float).eps)
+        if not self._solve_at(problem, base, tangent, sigma):
+            raise ContinuationError(f"Newton failed at a located event (sigma={sigma:g})")
+        return sigma
+
+    def _locate_fold(self, problem, base, tangent, ds, s, observe, f1) -> LimitPoint:
+        """The point in (0, ds) where the tangent's load component vanishes."""
+        il = self._index(problem)[1]
+        f0 = float(tangent[il][0])
+        sigma = self._locate(problem, base, tangent, ds,
+                             lambda: float(self._tangent(problem)[il][0]), f0, f1)
+        values = observe()
+        values["s"] = s + sigma
+        return LimitPoint(kind="max" if f0 > 0 else "min", s=s + sigma, values=values)
+
+
+class VolumeControl:
+    """Step a constraint target (e.g. ``volume_target``) with the natural rows.
+
+    The problem must be built without replacement rows, so the multiplier's
+    row is the constraint itself. Each target is reached from the previous
+    solution with a linear predictor; a failed increment is bisected.
+    """
+
+    def __init__(self, ctx, target: str = "volume_target", max_bisections: int = 12):
+        self.ctx = ctx
+        self.target = ctx.constant(target)
+        self.max_bisections = max_bisections
+
+    def solve_to(self, problem, value: float) -> None:
+        current = float(self.target.value)
+        if not self._try(problem, value):
+            for _ in range(self.max_bisections):
+                mid = 0.5 * (current + value)
+                if self._try(problem, mid):
+                    current = mid
+                    if self._try(problem, value):
+                        return
+            raise ContinuationError(
+                f"volume control: no converged state at target {value:g} "
+                f"(last SNES reason {problem.reason})")
+
+    def _try(self, problem, value) -> bool:
+        old = float(self.target.value)
+        self.target.value = value
+        if problem.solve():
+            return True
+        self.target.value = old
+        return False
+
+    def trace(self, problem, values, observe: Callable[[], dict]) -> list[dict]:
+        rows = []
+        for v in values:
+            self.solve_to(problem, v)
+            rows.append(observe())
+        return rows

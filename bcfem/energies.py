@@ -1,0 +1,82 @@
+r"""Energy terms: each returns one scalar UFL form in the reference configuration.
+
+A term is a frozen dataclass with ``energy(ctx)``. Residuals and tangents are
+never written by hand: the problem builder differentiates the sum of the terms.
+Parameters that may change during a run are ``fem.Constant`` (via
+``ctx.constant``), so each form compiles once.
+
+All lengths are in units of the blister radius R0 and energies in units of
+mu_f t0 R0^2 when the membrane scenes use them, but the terms themselves are
+unit-agnostic.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from bcfem.params import require
+
+
+@dataclass(frozen=True)
+class MembraneStrain:
+    r"""Strain energy of a thin incompressible membrane, :math:`U_f = \int t_0 W(I_1)\, dA` (eq. 3.25).
+
+    Attributes:
+        material: a material with ``strain_energy(I1)``.
+        thickness: reference thickness t0 [m]; 1 in normalised units.
+    """
+
+    material: object
+    thickness: float = 1.0  # [m]
+
+    def __post_init__(self):
+        require(self.thickness > 0, f"thickness must be > 0 (got {self.thickness})")
+
+    def energy(self, ctx):
+        kin = ctx.kin
+        return kin.integral(self.thickness * self.material.strain_energy(kin.I1))
+
+
+@dataclass(frozen=True)
+class SurfaceTension:
+    r"""Interface energy in the current configuration, :math:`\gamma A = \int \gamma\,\lambda_r\lambda_\theta\, dA`.
+
+    The tension is isotropic and independent of strain (a liquid/solid
+    interface, eq. 3.42); ``gamma`` is the run-time constant ``name``.
+
+    Attributes:
+        gamma: surface energy density [N/m], >= 0.
+        name: name of the run-time constant.
+    """
+
+    gamma: float
+    name: str = "gamma_l"
+
+    def __post_init__(self):
+        require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
+
+    def energy(self, ctx):
+        gamma = ctx.constant(self.name, self.gamma)
+        return ctx.kin.integral(gamma * ctx.kin.area_stretch)
+
+
+@dataclass(frozen=True)
+class PressureVolume:
+    r"""Pressure work with the pressure as a global unknown: :math:`-p\,(V(u) - \hat V)`.
+
+    ``p`` is the real-space state ``pressure`` (pressure difference Δp [Pa]).
+    Differentiating in ``p`` gives the volume constraint :math:`V(u) = \hat V`
+    (volume control, ``volume_target`` constant). Under arc-length
+    continuation the pressure row is replaced by the arc-length equation and
+    :math:`\hat V` stays 0, so the term is the plain pressure work
+    :math:`-\Delta p\, V`. Either way its value is the free energy's -ΔpV.
+
+    Adds the state ``pressure`` and the constant ``volume_target``.
+    """
+
+    def energy(self, ctx):
+        p = ctx.real_state("pressure")
+        v_target = ctx.constant("volume_target", 0.0)
+        kin = ctx.kin
+        # V-hat is spread over the reference area so the whole term is one integrand
+        return kin.integral(-p * (kin.volume_density - v_target / kin.reference_area))

@@ -1,0 +1,29 @@
+"""Rank-0 logging and the continuation progress line."""
+
+from __future__ import annotations
+
+import logging
+import sys
+
+from mpi4py import MPI
+
+logger = logging.getLogger("bcfem")
+
+
+def configure(comm=MPI.COMM_WORLD, quiet: bool = False) -> None:
+    """Send bcfem's log to stderr on rank 0 only; silence other ranks."""
+    logger.handlers.clear()
+    logger.propagate = False
+    if comm.rank == 0 and not quiet:
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(logging.Formatter("%(message)s"))
+        logger.addHandler(handler)
+        logger.setLevel(logging.INFO)
+    else:
+        logger.addHandler(logging.NullHandler())
+        logger.setLevel(logging.CRITICAL + 1)
+
+
+def progress(message: str) -> None:
+    """One progress line (INFO level, so --quiet removes it)."""
+    logger.info(message)

@@ -1,0 +1,83 @@
+"""MPI-correct global scalars: the one place where ranks are summed.
+
+Every volume, area, energy or point value reported by bcfem goes through
+these helpers, so no caller can forget the reduction.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from mpi4py import MPI
+from dolfinx import fem, geometry
+
+
+def global_sum(form: fem.Form) -> float:
+    """Assemble a compiled scalar form and sum it over the form's ranks."""
+    comm = form.mesh.comm
+    return comm.allreduce(fem.assemble_scalar(form), op=MPI.SUM)
+
+
+def real_value(f: fem.Function) -> float:
+    """Value of a function on the real (global-constant) element, on every rank."""
+    imap = f.function_space.dofmap.index_map
+    owned = f.x.array[: imap.size_local * f.function_space.dofmap.bs]
+    return imap.comm.allreduce(float(owned.sum()), op=MPI.SUM)
+
+
+class PointEvaluator:
+    """Evaluates UFL expressions at one fixed reference point, on every rank.
+
+    The owning cell is found once; the rank that owns it evaluates and the
+    value is shared with a sum reduction (other ranks contribute zero).
+    """
+
+    def __init__(self, mesh, point):
+        self.comm = mesh.comm
+        x = np.zeros((1, 3))
+        x[0, : len(point)] = point
+        tdim = mesh.topology.dim
+        imap = mesh.topology.index_map(tdim)
+        tree = geometry.bb_tree(mesh, tdim, padding=1e-12)
+        candidates = geometry.compute_collisions_points(tree, x)
+        cells = geometry.compute_colliding_cells(mesh, candidates, x).links(0)
+        cells = [c for c in cells if c < imap.size_local]
+        rank_with_cell = self.comm.rank if cells else self.comm.size
+        self.owner = self.comm.allreduce(rank_with_cell, op=MPI.MIN)
+        if self.owner == self.comm.size:
+            raise ValueError(f"point {point} lies outside the mesh")
+        self.cell = np.array(cells[:1] if self.comm.rank == self.owner else [], dtype=np.int32)
+        self.mesh = mesh
+        self.x = x
+
+    def reference_point(self):
+        """The point in the owning cell's reference coordinates (owner rank only)."""
+        if self.cell.size == 0:
+            return None
+        cell_geometry = self.mesh.geometry.x[self.mesh.geometry.dofmap[self.cell[0]]]
+        return self.mesh.geometry.cmap.pull_back(self.x[:, : self.mesh.geometry.dim], cell_geometry[:, : self.mesh.geometry.dim])
+
+    def expression(self, expr) -> "PointExpression":
+        """Compile ``expr`` for evaluation at this point."""
+        return PointExpression(self, expr)
+
+
+class PointExpression:
+    """A compiled expression bound to a :class:`PointEvaluator`; call it for the value."""
+
+    def __init__(self, evaluator: PointEvaluator, expr):
+        self.ev = evaluator
+        ref = evaluator.reference_point()
+        ref = np.zeros((1, evaluator.mesh.topology.dim)) if ref is None else ref
+        self.compiled = fem.Expression(expr, ref)
+        self.shape = self.compiled.value_size
+
+    def __call__(self) -> np.ndarray:
+        value = np.zeros(self.shape)
+        if self.ev.cell.size:
+            value[:] = self.compiled.eval(self.ev.mesh, self.ev.cell).reshape(-1)
+        return self.ev.comm.allreduce(value, op=MPI.SUM)
+
+
+def point_value(expr, mesh, point) -> np.ndarray:
+    """One-off evaluation of ``expr`` at ``point`` (compiles each call; prefer PointEvaluator)."""
+    return PointEvaluator(mesh, point).expression(expr)()

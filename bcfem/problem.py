@@ -1,0 +1,125 @@
+"""The problem builder: collect states, sum energies, derive blocks, own the SNES.
+
+No physics lives here. The residual of each state is the derivative of the
+total energy (the Lagrangian) in that state, unless a caller supplies a
+replacement row, as arc-length continuation does for its load parameter.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx.fem.petsc import NonlinearProblem, assign
+from petsc4py import PETSc
+
+from bcfem import options
+
+
+class Problem:
+    """A blocked nonlinear problem over all states of a context.
+
+    Args:
+        ctx: the context; its states are collected after the energies are built.
+        terms: energy terms, each with ``energy(ctx)``.
+        bcs: Dirichlet conditions on the displacement.
+        prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
+        petsc_options: scene defaults, layered over bcfem's (the user's win).
+        rows: replacement residual forms, keyed by state name.
+        jit_options: passed to dolfinx (e.g. a cache directory).
+    """
+
+    def __init__(self, ctx, terms, bcs, prefix: str, petsc_options: dict | None = None,
+                 rows: dict | None = None, jit_options: dict | None = None):
+        self.ctx = ctx
+        self.terms = list(terms)
+        self.lagrangian = sum(term.energy(ctx) for term in self.terms)
+        rows = rows or {}
+        self.names = list(ctx.states)
+        self.states = [ctx.states[n] for n in self.names]
+        residuals = [rows[n] if n in rows else
+                     ufl.derivative(self.lagrangian, s, ufl.TestFunction(s.function_space))
+                     for n, s in zip(self.names, self.states)]
+        self.prefix = prefix
+        self.options = options.merge(prefix, petsc_options)
+        before = options.keys_under(prefix)
+        self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
+                                     petsc_options_prefix=prefix, petsc_options=self.options,
+                                     jit_options=jit_options)
+        options.forget_new(prefix, before)
+        self.snes: PETSc.SNES = self._nlp.solver
+        self.iterations = 0
+        self.reason = 0
+        self._tangent_ksp = None
+
+    @property
+    def comm(self):
+        return self.ctx.mesh.comm
+
+    def state(self, name: str) -> fem.Function:
+        return self.ctx.states[name]
+
+    def save(self) -> list[np.ndarray]:
+        """A copy of every state's local array (for restore on failure)."""
+        return [s.x.array.copy() for s in self.states]
+
+    def restore(self, saved: list[np.ndarray]) -> None:
+        for s, a in zip(self.states, saved):
+            s.x.array[:] = a
+
+    def solve(self) -> bool:
+        """Newton from the current states. On failure the states are restored.
+
+        Returns:
+            True when SNES converged (reason > 0) to a finite state.
+        """
+        saved = self.save()
+        x = self._nlp.x
+        assign(self.states, x)
+        try:
+            self.snes.solve(None, x)
+            self.reason = self.snes.getConvergedReason()
+        except PETSc.Error:
+            self.reason = -100  # e.g. a NaN pivot from an inverted iterate
+        self.iterations = self.snes.getIterationNumber()
+        ok = self.reason > 0 and np.isfinite(x.norm())
+        if ok:
+            x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+            assign(x, self.states)
+        else:
+            self.restore(saved)
+        return ok
+
+    # -- linear algebra on the converged state ---------------------------------------------
+    def new_vector(self) -> PETSc.Vec:
+        return self._nlp.b.duplicate()
+
+    def vector_from(self, functions) -> PETSc.Vec:
+        """A blocked vector holding the given functions (one per state)."""
+        v = self.new_vector()
+        assign(list(functions), v)
+        return v
+
+    def functions_from(self, vec: PETSc.Vec, functions) -> None:
+        vec.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        assign(vec, list(functions))
+
+    def solve_jacobian(self, rhs: PETSc.Vec) -> PETSc.Vec:
+        """Solve J(x) y = rhs with the Jacobian assembled at the current states."""
+        x = self._nlp.x
+        assign(self.states, x)
+        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        A = self._nlp.A
+        self.snes.computeJacobian(x, A, None)
+        if self._tangent_ksp is None:
+            ksp = PETSc.KSP().create(self.comm)
+            ksp.setOptionsPrefix(self.prefix + "tangent_")
+            ksp.setType("preonly")
+            ksp.getPC().setType("lu")
+            ksp.getPC().setFactorSolverType("mumps")
+            ksp.setFromOptions()
+            self._tangent_ksp = ksp
+        self._tangent_ksp.setOperators(A)
+        y = rhs.duplicate()
+        self._tangent_ksp.solve(rhs, y)
+        return y

@@ -1,0 +1,44 @@
+"""What a scene is: a geometry and states (the context), energy terms, boundary
+conditions, a load path and its observables. Scenes build one; the runner
+solves it. Nothing here knows which physics a scene holds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+
+@dataclass
+class Scene:
+    """A composed model, ready to solve.
+
+    Attributes:
+        name: the registry name (also the PETSc prefix ``bcfem_<name>_``).
+        ctx: context with the mesh, displacement and kinematics.
+        terms: energy terms; only these are compiled.
+        bcs: Dirichlet conditions.
+        load: name of the real-space state that is the load parameter.
+        start: sets an initial guess in the states and returns the starting load.
+        observe: collective; observables of the current state (normalised).
+        end: the path ends where this turns positive.
+        progress_keys: observables shown in the progress line.
+        petsc_options: scene defaults for PETSc.
+        fields: functions written to the VTX file.
+    """
+
+    name: str
+    ctx: object
+    terms: list
+    bcs: list
+    load: str
+    start: Callable[[], float]
+    observe: Callable[[], dict]
+    end: Callable[[dict], float]
+    progress_keys: tuple[str, ...] = ()
+    petsc_options: dict = field(default_factory=dict)
+    fields: list = field(default_factory=list)
+
+    @property
+    def prefix(self) -> str:
+        return "bcfem_" + self.name.replace("-", "_") + "_"

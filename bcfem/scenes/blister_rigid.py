@@ -1,0 +1,150 @@
+r"""Scene ``blister-rigid``: a liquid-filled membrane blister on a rigid substrate.
+
+Free energy (eq. 3.42 without adhesion), in units of :math:`\mu_f t_0 R_0^2`
+with lengths in units of the blister radius :math:`R_0`:
+
+.. math:: \Pi = \int t_0 W(I_1)\,dA - \Delta p\,V + \gamma_l A,
+   \qquad dA = 2\pi R\,dR,\ R\in[0, 1].
+
+Normalised outputs: :math:`P = \Delta p R_0/(\mu_f t_0)`,
+:math:`\alpha = \gamma_l/(\mu_f t_0)`, :math:`V_0 = 4\pi R_0^3/3`,
+aspect :math:`= z(0)/R_0`, contact angle :math:`= \pi - \phi_0^-`
+(the angle between the membrane and the substrate at the edge), energy
+:math:`= \Pi/(\pi R_0^2\mu_f t_0)`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import ufl
+from dolfinx import fem, mesh
+
+from bcfem.context import Context
+from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
+from bcfem.kinematics import AxisymmetricMembrane
+from bcfem.materials import MATERIALS, Gent, NeoHookean
+from bcfem.mpi import PointEvaluator, global_sum, real_value
+from bcfem.params import ContinuationParams, require
+from bcfem.scene import Scene
+from bcfem.theory.membrane import simple_membrane_pressure
+
+V0 = 4.0 * math.pi / 3.0  # reference volume 4/3 pi R0^3, with R0 = 1
+
+
+@dataclass(frozen=True)
+class Params:
+    """Parameters of ``blister-rigid`` (all normalised by mu_f, t0 and R0).
+
+    Attributes:
+        material: 'neo-hookean' or 'gent'.
+        Jm: Gent locking limit of I1 - 3, > 0 (ignored for neo-Hookean).
+        alpha: elasto-capillary number gamma_l/(mu_f t0), >= 0.
+        v_max: the branch ends at V/V0 = v_max, > v_start.
+        v_start: the branch starts near this V/V0 (tiny, > 0).
+        cells: cells across the blister radius, >= 2.
+        degree: Lagrange degree of the displacement, 1..4.
+        stiffness: membrane modulus factor mu_f t0 in units of the reference (1);
+            small values approach the droplet limit.
+        continuation: step control.
+    """
+
+    material: str = "gent"
+    Jm: float = 100.0
+    alpha: float = 0.0
+    v_max: float = 6.0
+    v_start: float = 0.01
+    cells: int = 200
+    degree: int = 2
+    stiffness: float = 1.0
+    continuation: ContinuationParams = field(default_factory=ContinuationParams)
+
+    def __post_init__(self):
+        require(self.material in MATERIALS,
+                f"material must be one of {sorted(MATERIALS)} (got {self.material!r})")
+        require(self.Jm > 0 and not math.isnan(self.Jm), f"Jm must be > 0 (got {self.Jm})")
+        require(self.alpha >= 0 and math.isfinite(self.alpha), f"alpha must be >= 0 (got {self.alpha})")
+        require(self.v_max > 0 and math.isfinite(self.v_max), f"v-max must be > 0 (got {self.v_max})")
+        require(0 < self.v_start < self.v_max, f"v-start must be in (0, v-max) (got {self.v_start})")
+        require(self.cells >= 2, f"cells must be >= 2 (got {self.cells})")
+        require(1 <= self.degree <= 4, f"degree must be in 1..4 (got {self.degree})")
+        require(self.stiffness > 0 and math.isfinite(self.stiffness),
+                f"stiffness must be > 0 (got {self.stiffness})")
+
+    def material_model(self):
+        if self.material == "gent":
+            return Gent(mu=self.stiffness, Jm=self.Jm)
+        return NeoHookean(mu=self.stiffness)
+
+
+def build(params: Params, comm) -> Scene:
+    """Compose the clamped blister: mesh, terms, edge conditions, observables."""
+    msh = mesh.create_interval(comm, params.cells, [0.0, 1.0])
+    V = fem.functionspace(msh, ("Lagrange", params.degree, (2,)))
+    u = fem.Function(V, name="displacement")
+    kin = AxisymmetricMembrane(u, quadrature_degree=2 * params.degree + 2)
+    ctx = Context(u, kin)
+    terms = [MembraneStrain(params.material_model())]
+    if params.alpha > 0:
+        terms.append(SurfaceTension(params.alpha))
+    terms.append(PressureVolume())
+
+    bcs = clamped_edge(V)
+    observe = observables(ctx, terms)
+
+    def start() -> float:
+        return cap_guess(ctx, params)
+
+    return Scene(name="blister-rigid", ctx=ctx, terms=terms, bcs=bcs, load="pressure",
+                 start=start, observe=observe,
+                 end=lambda values: values["V_over_V0"] - params.v_max,
+                 progress_keys=("V_over_V0", "P", "aspect"), fields=[u])
+
+
+def clamped_edge(V) -> list:
+    """u = 0 at R = 1; u_r = 0 on the axis (symmetry)."""
+    msh = V.mesh
+    fdim = msh.topology.dim - 1
+    edge = mesh.locate_entities_boundary(msh, fdim, lambda x: np.isclose(x[0], 1.0))
+    axis = mesh.locate_entities_boundary(msh, fdim, lambda x: np.isclose(x[0], 0.0))
+    zero = np.zeros(2, dtype=fem.Function(V).x.array.dtype)
+    Vr, _ = V.sub(0).collapse()
+    axis_dofs = fem.locate_dofs_topological((V.sub(0), Vr), fdim, axis)
+    return [fem.dirichletbc(zero, fem.locate_dofs_topological(V, fdim, edge), V),
+            fem.dirichletbc(fem.Function(Vr), axis_dofs, V.sub(0))]
+
+
+def observables(ctx, terms):
+    """Compile the observables once; returns a collective callable."""
+    kin, u = ctx.kin, ctx.u
+    volume = fem.form(kin.integral(kin.volume_density))
+    energy = fem.form(sum(t.energy(ctx) for t in terms))
+    apex = PointEvaluator(ctx.mesh, [0.0]).expression(u[1])
+    edge_slope = PointEvaluator(ctx.mesh, [1.0]).expression(ufl.as_vector([kin.dr, kin.dz]))
+    pressure = ctx.real_state("pressure")
+
+    def observe() -> dict:
+        dr, dz = edge_slope()
+        return {
+            "V_over_V0": global_sum(volume) / V0,
+            "P": real_value(pressure),
+            "aspect": float(apex()[0]),
+            "contact_angle_deg": math.degrees(math.atan2(-dz, dr)),
+            "energy": global_sum(energy) / math.pi,
+        }
+
+    return observe
+
+
+def cap_guess(ctx, params: Params) -> float:
+    """Set u to the simple-membrane cap of volume v_start (eqs. 3.11-3.12); return its pressure.
+
+    A flat membrane has no tension, so Newton cannot start there.
+    """
+    h = 8.0 / 3.0 * params.v_start  # V/V0 = 3h/8 for z = h(1 - R^2)
+    c = h * h  # optimal c = 2 h^2 (3 - nu)/5 with nu = 1/2
+    ctx.u.interpolate(lambda x: np.vstack([c * x[0] * (1 - x[0]), h * (1 - x[0] ** 2)]))
+    # pressure: the simple-membrane stretching part plus the surface-tension part (T = alpha)
+    return simple_membrane_pressure(params.v_start) * params.stiffness + 32.0 * params.alpha * params.v_start / 3.0

@@ -1,0 +1,1 @@
+"""Closed forms and reference solutions used for checks and comparison curves."""
