@@ -144,7 +144,7 @@ class ArcLength:
                 f"(SNES reason {problem.reason}); give a better initial guess")
 
     def trace(self, problem, observe: Callable[[], dict], end: Callable[[dict], float],
-              progress_keys: tuple[str, ...] = ()) -> Branch:
+              progress_keys: tuple[str, ...] = (), on_accept: Callable[[dict], None] | None = None) -> Branch:
         """Follow the branch from the current converged state until ``end(values)`` crosses zero.
 
         Args:
@@ -153,6 +153,7 @@ class ArcLength:
             end: the branch ends where this changes sign from negative to positive
                 (located to ``event_tol``, and the last row is that point).
             progress_keys: observables shown in the progress line.
+            on_accept: collective; called with the observables at each stored point.
         """
         p = self.params
         t0 = time.perf_counter()
@@ -163,6 +164,8 @@ class ArcLength:
         tangent = self._tangent(problem)
         values["s"] = s
         branch.rows.append(values)
+        if on_accept:
+            on_accept(values)
         if end(values) >= 0:
             raise ContinuationError("the branch starts beyond its end point")
         ds = p.ds
@@ -197,12 +200,16 @@ class ArcLength:
                         problem, base, tangent, sigma, s, observe, float(last_tangent[il][0])))
                     problem.restore(last_state)
                 branch.rows.append(last)
+                if on_accept:
+                    on_accept(last)
                 break
             if np.sign(new_tangent[il][0]) != np.sign(tangent[il][0]):
                 branch.limit_points.append(self._locate_fold(
                     problem, base, tangent, ds, s, observe, float(new_tangent[il][0])))
                 problem.restore(accepted)
             branch.rows.append(new_values)
+            if on_accept:
+                on_accept(new_values)
             base, tangent, values, s = problem.save(), new_tangent, new_values, s + ds
             progress(f"step {step:4d}  s={s:.4f}  ds={ds:.3g}  its={problem.iterations}  "
                      + "  ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))

@@ -13,9 +13,11 @@ from petsc4py import PETSc
 SOLVER_DEFAULTS = {
     "snes_type": "newtonls",
     "snes_linesearch_type": "basic",
+    # converged when the residual is at round-off or Newton's update is
+    # 1e-12 of the state (quadratic convergence: the error is then ~1e-24)
     "snes_rtol": 1e-10,
-    "snes_atol": 1e-11,
-    "snes_stol": 1e-14,
+    "snes_atol": 1e-10,
+    "snes_stol": 1e-12,
     "snes_max_it": 25,
     "ksp_type": "preonly",
     "pc_type": "lu",

@@ -8,6 +8,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
+from bcfem.params import ContinuationParams
+
 
 @dataclass
 class Scene:
@@ -25,6 +27,8 @@ class Scene:
         progress_keys: observables shown in the progress line.
         petsc_options: scene defaults for PETSc.
         fields: functions written to the VTX file.
+        continuation: step control of the load path.
+        plots: PNG file name -> (x column, y column, x label, y label).
     """
 
     name: str
@@ -38,6 +42,8 @@ class Scene:
     progress_keys: tuple[str, ...] = ()
     petsc_options: dict = field(default_factory=dict)
     fields: list = field(default_factory=list)
+    continuation: ContinuationParams = field(default_factory=ContinuationParams)
+    plots: dict = field(default_factory=dict)
 
     @property
     def prefix(self) -> str:

@@ -33,6 +33,35 @@ from bcfem.theory.membrane import simple_membrane_pressure
 
 V0 = 4.0 * math.pi / 3.0  # reference volume 4/3 pi R0^3, with R0 = 1
 
+SUMMARY = "membrane blister on a rigid substrate, clamped edge (ch. 3)"
+DESCRIPTION = """\
+An inflated incompressible hyperelastic membrane (neo-Hookean or Gent),
+clamped at radius R0 on a rigid substrate, filled with a liquid whose
+interface with the membrane has tension gamma_l. The free energy is
+Pi = U_f - dp V + gamma_l A (eq. 3.42 without adhesion); the pressure is a
+global unknown traced by arc-length continuation, through its limit points.
+
+Units and normalisations (all inputs and outputs are dimensionless):
+  lengths        by R0 (blister radius)
+  P              = dp R0 / (mu_f t0)
+  alpha          = gamma_l / (mu_f t0)
+  V/V0           with V0 = 4/3 pi R0^3
+  aspect         = z(0) / R0
+  contact angle  = pi - phi0 (membrane vs substrate at the edge), degrees
+  energy         = Pi / (pi R0^2 mu_f t0)
+Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/fields.bp (VTX)."""
+HELP = {
+    "material": "strain-energy function",
+    "Jm": "Gent locking limit of I1-3, > 0 (Gent only)",
+    "alpha": "elasto-capillary number gamma_l/(mu_f t0), >= 0",
+    "v_max": "end of the branch, V/V0 > 0",
+    "v_start": "start of the branch, 0 < V/V0 < v-max",
+    "cells": "cells across R0, >= 2",
+    "degree": "Lagrange degree of the displacement, 1..4",
+    "stiffness": "membrane stiffness mu_f t0 relative to the unit, > 0 (small: droplet limit)",
+}
+COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "s"]
+
 
 @dataclass(frozen=True)
 class Params:
@@ -59,7 +88,9 @@ class Params:
     cells: int = 200
     degree: int = 2
     stiffness: float = 1.0
-    continuation: ContinuationParams = field(default_factory=ContinuationParams)
+    continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
+
+    CHOICES = {"material": sorted(MATERIALS)}
 
     def __post_init__(self):
         require(self.material in MATERIALS,
@@ -100,7 +131,9 @@ def build(params: Params, comm) -> Scene:
     return Scene(name="blister-rigid", ctx=ctx, terms=terms, bcs=bcs, load="pressure",
                  start=start, observe=observe,
                  end=lambda values: values["V_over_V0"] - params.v_max,
-                 progress_keys=("V_over_V0", "P", "aspect"), fields=[u])
+                 progress_keys=("V_over_V0", "P", "aspect"), fields=[u],
+                 continuation=params.continuation,
+                 plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")})
 
 
 def clamped_edge(V) -> list:

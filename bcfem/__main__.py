@@ -1,0 +1,5 @@
+import sys
+
+from bcfem.cli import main
+
+sys.exit(main())

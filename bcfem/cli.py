@@ -1,0 +1,119 @@
+"""Command line: ``bcfem run SCENE [--param value ...] [PETSc options]``.
+
+Scene options come from the scene's ``Params`` dataclass (``v_max`` ->
+``--v-max``) with the help text in its ``HELP`` dict. Anything of the form
+``-petsc_option [value]`` goes to PETSc. Bad input exits with code 2 and a
+message naming the parameter, before any meshing, compilation or output.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+import sys
+from pathlib import Path
+
+from mpi4py import MPI
+
+
+class _Parser(argparse.ArgumentParser):
+    """An ArgumentParser that reports errors on rank 0 only."""
+
+    def _print_message(self, message, file=None):
+        if MPI.COMM_WORLD.rank == 0:
+            super()._print_message(message, file)
+
+
+def _float(text: str) -> float:
+    value = float(text)
+    if math.isnan(value):
+        raise argparse.ArgumentTypeError("nan is not a number here")
+    return value
+
+
+def _add_params(parser, params_cls, help_text: dict) -> None:
+    defaults = params_cls()
+    for f in dataclasses.fields(params_cls):
+        default = getattr(defaults, f.name)
+        if dataclasses.is_dataclass(default):
+            continue
+        flag = "--" + f.name.replace("_", "-")
+        kind = type(default)
+        kwargs = {"default": default, "help": f"{help_text.get(f.name, '')} (default: {default})"}
+        if f.name in getattr(params_cls, "CHOICES", {}):
+            kwargs["choices"] = params_cls.CHOICES[f.name]
+        if kind is bool:
+            kwargs["action"] = argparse.BooleanOptionalAction
+        else:
+            kwargs["type"] = _float if kind is float else kind
+        parser.add_argument(flag, dest=f.name, **kwargs)
+
+
+def build_parser():
+    from bcfem.scenes import REGISTRY
+
+    parser = _Parser(prog="bcfem", description="Blisters and craters: fluid-induced large deformation "
+                     "at soft interfaces (FEniCSx). PETSc options (-snes_rtol 1e-12, ...) pass through; "
+                     "the user's values win over bcfem's defaults.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    run = sub.add_parser("run", help="trace one scene along its load path",
+                         description="Scenes: " + ", ".join(REGISTRY))
+    scenes = run.add_subparsers(dest="scene", required=True, metavar="SCENE", parser_class=_Parser)
+    for name, module in REGISTRY.items():
+        p = scenes.add_parser(name, help=module.SUMMARY, description=module.DESCRIPTION,
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
+        _add_params(p, module.Params, module.HELP)
+        p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
+        p.add_argument("--quiet", action="store_true", help="no progress line")
+    return parser
+
+
+def _split_petsc(argv: list[str]) -> tuple[list[str], list[str]]:
+    """Separate ``-key [value]`` PETSc options from bcfem's ``--options``."""
+    ours, petsc = [], []
+    i = 0
+    while i < len(argv):
+        a = argv[i]
+        if a.startswith("-") and not a.startswith("--") and len(a) > 2 and a[1].isalpha():
+            petsc.append(a)
+            if i + 1 < len(argv) and not argv[i + 1].startswith("-"):
+                petsc.append(argv[i + 1])
+                i += 1
+        else:
+            ours.append(a)
+        i += 1
+    return ours, petsc
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    ours, petsc = _split_petsc(argv)
+    parser = build_parser()
+    args = parser.parse_args(ours)
+    from bcfem.scenes import REGISTRY
+
+    module = REGISTRY[args.scene]
+    values = {f.name: getattr(args, f.name) for f in dataclasses.fields(module.Params)
+              if hasattr(args, f.name)}
+    try:
+        params = module.Params(**values)
+    except ValueError as err:
+        parser.exit(2, f"bcfem run {args.scene}: error: {err}\n" if MPI.COMM_WORLD.rank == 0 else "")
+
+    from bcfem import log, options, runner
+
+    comm = MPI.COMM_WORLD
+    log.configure(comm, quiet=args.quiet)
+    options.insert_command_line(petsc)
+    scene = module.build(params, comm)
+    summary = runner.run(scene, params, args.out, comm, columns=module.COLUMNS)
+    if comm.rank == 0:
+        out = args.out
+        print(f"wrote {out / 'branch.csv'}, {out / 'summary.json'}, "
+              + ", ".join(str(out / n) for n in scene.plots) + f", {out / 'fields.bp'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,78 @@
+"""Solve a scene along its load path and write its results directory.
+
+Outputs (rank 0 writes CSV, JSON and PNG; all ranks write VTX):
+``branch.csv``, ``summary.json``, ``fields.bp`` and the scene's PNGs.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import asdict
+from pathlib import Path
+
+from bcfem import io
+from bcfem.continuation import ArcLength, Branch
+from bcfem.log import logger
+from bcfem.problem import Problem
+
+
+def versions() -> dict:
+    import dolfinx
+    from petsc4py import PETSc
+
+    import bcfem
+
+    return {"bcfem": bcfem.__version__, "dolfinx": dolfinx.__version__,
+            "petsc": "{}.{}.{}".format(*PETSc.Sys.getVersion())}
+
+
+def trace(scene, on_accept=None) -> tuple[Branch, Problem]:
+    """Build the arc-length problem of ``scene``, start it and follow the branch."""
+    arc = ArcLength(scene.ctx, scene.load, scene.continuation)
+    problem = Problem(scene.ctx, scene.terms, scene.bcs, scene.prefix,
+                      scene.petsc_options, rows=arc.rows())
+    arc.start(problem, scene.start())
+    branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept)
+    return branch, problem
+
+
+def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dict:
+    """Trace ``scene`` and write ``out``; returns the summary dict."""
+    t0 = time.perf_counter()
+    out = Path(out)
+    if comm.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    comm.barrier()
+    fields = io.FieldWriter(comm, out / "fields.bp", scene.fields) if scene.fields else None
+    on_accept = (lambda values: fields.write(values["s"])) if fields else None
+    branch, problem = trace(scene, on_accept)
+    if fields:
+        fields.close()
+    wall = time.perf_counter() - t0
+
+    io.write_csv(out / "branch.csv", branch.rows, comm, columns)
+    dofs = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.bs
+               for s in problem.states)
+    summary = {
+        "scene": scene.name,
+        "parameters": asdict(params),
+        "limit_points": [{**lp.values, "kind": lp.kind} for lp in branch.limit_points],
+        "steps": len(branch.rows),
+        "newton_iterations": branch.newton_iterations,
+        "failed_steps": branch.failed_steps,
+        "dofs": dofs,
+        "ranks": comm.size,
+        "wall_time_s": wall,
+        "versions": versions(),
+        "petsc_options": {k: str(v) for k, v in problem.options.items()},
+    }
+    io.write_json(out / "summary.json", summary, comm)
+    if comm.rank == 0:
+        from bcfem.plots import branch_figure
+
+        for name, (x, y, xl, yl) in scene.plots.items():
+            fig = branch_figure(branch, x, y, xl, yl, title=scene.name)
+            io.save_figure(fig, out / name, comm)
+    logger.info(f"{scene.name}: {len(branch.rows)} points, {len(branch.limit_points)} limit points, "
+                f"{wall:.2f} s -> {out}")
+    return summary
