@@ -248,38 +248,41 @@ class ArcLength:
 
 
 class VolumeControl:
-    """Step a constraint target (e.g. ``volume_target``) with the natural rows.
+    """Step a constraint target (``volume_target``) with the natural rows.
 
-    The problem must be built without replacement rows, so the multiplier's
-    row is the constraint itself. Each target is reached from the previous
-    solution with a linear predictor; a failed increment is bisected.
+    The problem must be built without replacement rows, so the pressure's row
+    is the volume constraint itself. A target is approached from the current
+    state's volume in sub-steps: a failed sub-step is halved, a converged one
+    lets the next grow, and nothing unconverged is ever kept.
     """
 
-    def __init__(self, ctx, target: str = "volume_target", max_bisections: int = 12):
-        self.ctx = ctx
+    def __init__(self, ctx, target: str = "volume_target", min_step: float = 1e-10):
         self.target = ctx.constant(target)
-        self.max_bisections = max_bisections
+        self._volume = fem.form(ctx.kin.integral(ctx.kin.volume_density))
+        self.min_step = min_step
+
+    def volume(self) -> float:
+        return global_sum(self._volume)
 
     def solve_to(self, problem, value: float) -> None:
-        current = float(self.target.value)
-        if not self._try(problem, value):
-            for _ in range(self.max_bisections):
-                mid = 0.5 * (current + value)
-                if self._try(problem, mid):
-                    current = mid
-                    if self._try(problem, value):
-                        return
-            raise ContinuationError(
-                f"volume control: no converged state at target {value:g} "
-                f"(last SNES reason {problem.reason})")
-
-    def _try(self, problem, value) -> bool:
-        old = float(self.target.value)
-        self.target.value = value
-        if problem.solve():
-            return True
-        self.target.value = old
-        return False
+        current = self.volume()
+        step = value - current
+        while True:
+            trial = current + step
+            if (step > 0 and trial > value) or (step < 0 and trial < value):
+                trial = value
+            self.target.value = trial
+            if problem.solve():
+                current = trial
+                if trial == value:
+                    return
+                step *= 1.5
+            else:
+                step *= 0.5
+                if abs(step) < self.min_step * max(1.0, abs(value)):
+                    raise ContinuationError(
+                        f"volume control: no converged state beyond volume {current:.6g} towards "
+                        f"{value:.6g} (last SNES reason {problem.reason})")
 
     def trace(self, problem, values, observe: Callable[[], dict]) -> list[dict]:
         rows = []

@@ -53,8 +53,8 @@ class PointEvaluator:
         """The point in the owning cell's reference coordinates (owner rank only)."""
         if self.cell.size == 0:
             return None
-        cell_geometry = self.mesh.geometry.x[self.mesh.geometry.dofmap[self.cell[0]]]
-        return self.mesh.geometry.cmap.pull_back(self.x[:, : self.mesh.geometry.dim], cell_geometry[:, : self.mesh.geometry.dim])
+        cell_geometry = self.mesh.geometry.x[self.mesh.geometry.dofmaps[0][self.cell[0]]]
+        return self.mesh.geometry.cmaps[0].pull_back(self.x[:, : self.mesh.geometry.dim], cell_geometry[:, : self.mesh.geometry.dim])
 
     def expression(self, expr) -> "PointExpression":
         """Compile ``expr`` for evaluation at this point."""
