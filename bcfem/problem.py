@@ -90,6 +90,25 @@ class Problem:
             self.restore(saved)
         return ok
 
+    def close(self) -> None:
+        """Destroy the PETSc objects now, in the same order on every rank.
+
+        Left to the garbage collector, their collective destruction can happen in
+        a different order on different ranks and deadlock at exit.
+        """
+        if self._tangent_ksp is not None:
+            self._tangent_ksp.destroy()
+            self._tangent_ksp = None
+        if self._nlp is not None:
+            del self._nlp
+            self._nlp = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
     # -- linear algebra on the converged state ---------------------------------------------
     def new_vector(self) -> PETSc.Vec:
         return self._nlp.b.duplicate()

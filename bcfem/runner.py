@@ -48,11 +48,13 @@ def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dic
     branch, problem = trace(scene, on_accept)
     if fields:
         fields.close()
+    dofs = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.bs
+               for s in problem.states)
+    petsc_options = {k: str(v) for k, v in problem.options.items()}
+    problem.close()
     wall = time.perf_counter() - t0
 
     io.write_csv(out / "branch.csv", branch.rows, comm, columns)
-    dofs = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.bs
-               for s in problem.states)
     summary = {
         "scene": scene.name,
         "parameters": asdict(params),
@@ -64,7 +66,7 @@ def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dic
         "ranks": comm.size,
         "wall_time_s": wall,
         "versions": versions(),
-        "petsc_options": {k: str(v) for k, v in problem.options.items()},
+        "petsc_options": petsc_options,
     }
     io.write_json(out / "summary.json", summary, comm)
     if comm.rank == 0:

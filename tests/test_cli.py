@@ -1,0 +1,114 @@
+"""The CLI contract of ``bcfem run blister-rigid``: outputs, bad input, MPI invariance."""
+
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+BIN = Path(sys.executable).parent
+ARGS = ["run", "blister-rigid", "--material", "gent", "--Jm", "100", "--alpha", "0.5",
+        "--v-max", "6", "--cells", "60", "--degree", "2", "--quiet"]
+
+
+def bcfem(*args, ranks=1, env=None):
+    cmd = [str(BIN / "bcfem"), *args]
+    if ranks > 1:
+        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    full_env = {**os.environ, "PATH": f"{BIN}:{os.environ['PATH']}", **(env or {})}
+    return subprocess.run(cmd, capture_output=True, text=True, env=full_env, timeout=600)
+
+
+def read(out):
+    with open(out / "branch.csv") as f:
+        rows = list(csv.DictReader(f))
+    return rows, json.loads((out / "summary.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    out = tmp_path_factory.mktemp("serial") / "run"
+    res = bcfem(*ARGS, "--out", str(out))
+    assert res.returncode == 0, res.stderr
+    return out, res
+
+
+def test_outputs_follow_the_contract(serial):
+    out, res = serial
+    rows, summary = read(out)
+    assert {"V_over_V0", "P", "aspect", "contact_angle_deg", "energy"} <= set(rows[0])
+    assert {"parameters", "limit_points", "dofs", "ranks", "wall_time_s", "versions"} <= set(summary)
+    assert set(summary["versions"]) >= {"bcfem", "dolfinx", "petsc"}
+    assert summary["parameters"]["alpha"] == 0.5 and summary["ranks"] == 1
+    assert [lp["kind"] for lp in summary["limit_points"]] == ["max", "min"]
+    assert all({"V_over_V0", "P", "kind"} <= set(lp) for lp in summary["limit_points"])
+    assert (out / "pv.png").stat().st_size > 10_000
+    assert (out / "fields.bp").is_dir()
+    assert float(rows[-1]["V_over_V0"]) == pytest.approx(6.0, abs=1e-9)
+    assert not list(out.glob(".*tmp*")), "temporary files left behind"
+    assert "pv.png" in res.stdout
+
+
+def test_mpi_gives_the_serial_branch(serial, tmp_path):
+    out_serial, _ = serial
+    out = tmp_path / "mpi"
+    res = bcfem(*ARGS, "--out", str(out), ranks=2)
+    assert res.returncode == 0, res.stderr
+    rows1, s1 = read(out_serial)
+    rows2, s2 = read(out)
+    assert s2["ranks"] == 2
+    for a, b in zip(s1["limit_points"], s2["limit_points"], strict=True):
+        assert b["P"] == pytest.approx(a["P"], rel=1e-8)
+        assert b["V_over_V0"] == pytest.approx(a["V_over_V0"], rel=1e-8)
+    assert len(rows1) == len(rows2)
+    for key in ("V_over_V0", "P", "aspect", "contact_angle_deg", "energy"):
+        x1 = np.array([float(r[key]) for r in rows1])
+        x2 = np.array([float(r[key]) for r in rows2])
+        np.testing.assert_allclose(x2, x1, rtol=1e-8, atol=1e-10)
+
+
+def test_petsc_options_pass_through(tmp_path):
+    out = tmp_path / "opts"
+    res = bcfem(*ARGS, "--v-max", "0.5", "--out", str(out), "-snes_max_it", "17",
+                env={"PETSC_OPTIONS": "-bcfem_blister_rigid_snes_rtol 1e-9"})
+    assert res.returncode == 0, res.stderr
+    _, summary = read(out)
+    assert summary["petsc_options"]["snes_max_it"] == "17"
+    assert summary["petsc_options"]["snes_rtol"] == "1e-9"
+
+
+@pytest.mark.parametrize("args, word", [
+    (["--Jm", "0"], "Jm"),
+    (["--Jm", "-5"], "Jm"),
+    (["--alpha", "-0.1"], "alpha"),
+    (["--v-max", "0"], "v-max"),
+    (["--v-max", "-1"], "v-max"),
+    (["--cells", "1"], "cells"),
+    (["--material", "rubber"], "material"),
+    (["--degree", "9"], "degree"),
+])
+def test_bad_input_exits_2_and_writes_nothing(tmp_path, args, word):
+    out = tmp_path / "bad"
+    res = bcfem("run", "blister-rigid", *args, "--out", str(out))
+    assert res.returncode == 2
+    assert word in res.stderr
+    assert not out.exists()
+
+
+def test_unknown_scene_exits_2(tmp_path):
+    res = bcfem("run", "no-such-scene", "--out", str(tmp_path / "x"))
+    assert res.returncode == 2 and "no-such-scene" in res.stderr
+
+
+def test_help_states_units():
+    res = bcfem("run", "--help")
+    assert res.returncode == 0 and "blister-rigid" in res.stdout
+    res = bcfem("run", "blister-rigid", "--help")
+    assert res.returncode == 0
+    for text in ("dp R0 / (mu_f t0)", "gamma_l / (mu_f t0)", "V0 = 4/3 pi R0^3", "z(0) / R0"):
+        assert text in res.stdout
