@@ -110,8 +110,15 @@ class Params:
         return NeoHookean(mu=self.stiffness)
 
 
-def build(params: Params, comm) -> Scene:
-    """Compose the clamped blister: mesh, terms, edge conditions, observables."""
+def build(params: Params, comm, extra_terms=()) -> Scene:
+    """Compose the clamped blister: mesh, terms, edge conditions, observables.
+
+    Args:
+        params: validated parameters.
+        comm: the MPI communicator of the mesh.
+        extra_terms: energy terms of a research script, added to the free
+            energy (and to the reported energy) like the built-in ones.
+    """
     msh = mesh.create_interval(comm, params.cells, [0.0, 1.0])
     V = fem.functionspace(msh, ("Lagrange", params.degree, (2,)))
     u = fem.Function(V, name="displacement")
@@ -121,6 +128,7 @@ def build(params: Params, comm) -> Scene:
     if params.alpha > 0:
         terms.append(SurfaceTension(params.alpha))
     terms.append(PressureVolume())
+    terms.extend(extra_terms)
 
     bcs = clamped_edge(V)
     observe = observables(ctx, terms)
