@@ -106,8 +106,15 @@ def main(argv: list[str] | None = None) -> int:
     comm = MPI.COMM_WORLD
     log.configure(comm, quiet=args.quiet)
     options.insert_command_line(petsc)
+    from bcfem.continuation import ContinuationError
+
     scene = module.build(params, comm)
-    summary = runner.run(scene, params, args.out, comm, columns=module.COLUMNS)
+    try:
+        runner.run(scene, params, args.out, comm, columns=module.COLUMNS)
+    except ContinuationError as err:
+        if comm.rank == 0:
+            print(f"bcfem run {args.scene}: solver failed: {err}", file=sys.stderr)
+        return 1
     if comm.rank == 0:
         out = args.out
         print(f"wrote {out / 'branch.csv'}, {out / 'summary.json'}, "

@@ -6,8 +6,9 @@ cavity pressure) gets the arc-length equation as its residual row,
 .. math:: \frac{1}{A}\int t_u\cdot(u - u_a)\,dA + t_\lambda(\lambda - \lambda_a) = 0,
 
 a hyperplane through the predictor :math:`x_a = x_k + \sigma t_k` orthogonal
-to the unit tangent :math:`t_k`. The norm is the reference-area mean, so the
-step is mesh independent. The row is one more real-space row in the blocked
+to the unit tangent :math:`t_k` (the λ-part of the inner product is divided
+by ``load_scale``², omitted above). The norm is the reference-area mean, so
+the step is mesh independent. The row is one more real-space row in the blocked
 system, so Newton, step control and retries are ours and the linear algebra is
 PETSc's (MUMPS). The tangent at a converged point solves
 :math:`[F_x; t_{k-1}^T]\,\tau = e_\lambda`; its λ-component changes sign at a
@@ -73,11 +74,18 @@ class ArcLength:
         ctx: the model context (must already hold the parameter state).
         parameter: name of the real-space state that acts as the load.
         params: step control.
+        load_scale: typical size of the load; the norm is
+            ``||x||^2 = (1/A) int |u|^2 dA + (lambda / load_scale)^2``, so steps
+            stay balanced when the load is large (e.g. a strong surface tension).
     """
 
-    def __init__(self, ctx, parameter: str = "pressure", params: ContinuationParams = ContinuationParams()):
+    def __init__(self, ctx, parameter: str = "pressure", params: ContinuationParams = ContinuationParams(),
+                 load_scale: float = 1.0):
+        if not load_scale > 0:
+            raise ValueError(f"load_scale must be > 0 (got {load_scale})")
         self.ctx = ctx
         self.params = params
+        self.load_scale = float(load_scale)
         self.parameter = parameter
         lam = ctx.real_state(parameter)
         u = ctx.u
@@ -103,13 +111,14 @@ class ArcLength:
     def _norm(self, problem, vec: list[np.ndarray]) -> float:
         iu, il = self._index(problem)
         self._work.x.array[:] = vec[iu]
-        return math.sqrt(global_sum(self._norm2) + float(vec[il][0]) ** 2)
+        return math.sqrt(global_sum(self._norm2) + (float(vec[il][0]) / self.load_scale) ** 2)
 
     def _set_hyperplane(self, problem, tangent, anchor) -> None:
         iu, il = self._index(problem)
         self.t_u.x.array[:] = tangent[iu]
         self.u_anchor.x.array[:] = anchor[iu]
-        self.t_lam.value = float(tangent[il][0])
+        # the row is <t, x - x_a> in the scaled inner product
+        self.t_lam.value = float(tangent[il][0]) / self.load_scale**2
         self.lam_anchor.value = float(anchor[il][0])
 
     def _tangent(self, problem) -> list[np.ndarray]:
@@ -143,8 +152,19 @@ class ArcLength:
                 f"no converged start at {self.parameter} = {value:g} "
                 f"(SNES reason {problem.reason}); give a better initial guess")
 
-    def trace(self, problem, observe: Callable[[], dict], end: Callable[[dict], float],
-              progress_keys: tuple[str, ...] = (), on_accept: Callable[[dict], None] | None = None) -> Branch:
+    def trace(self, problem, observe, end, progress_keys=(), on_accept=None, guard=None) -> Branch:
+        """Follow the branch; see :meth:`_trace`. A :class:`ContinuationError` carries
+        the converged part of the branch as ``error.branch``."""
+        self._partial = Branch()
+        try:
+            return self._trace(problem, observe, end, progress_keys, on_accept, guard)
+        except ContinuationError as error:
+            error.branch = self._partial
+            raise
+
+    def _trace(self, problem, observe: Callable[[], dict], end: Callable[[dict], float],
+              progress_keys: tuple[str, ...] = (), on_accept: Callable[[dict], None] | None = None,
+              guard: Callable[[dict], str | None] | None = None) -> Branch:
         """Follow the branch from the current converged state until ``end(values)`` crosses zero.
 
         Args:
@@ -154,10 +174,12 @@ class ArcLength:
                 (located to ``event_tol``, and the last row is that point).
             progress_keys: observables shown in the progress line.
             on_accept: collective; called with the observables at each stored point.
+            guard: returns a message when a converged state is physically out of
+                range (e.g. a locking Gent membrane); the trace then stops with it.
         """
         p = self.params
         t0 = time.perf_counter()
-        branch = Branch()
+        branch = self._partial
         s = 0.0
         values = observe()
         base = problem.save()
@@ -187,6 +209,8 @@ class ArcLength:
             its = max(problem.iterations, 1)
             new_values = observe()
             new_values["s"] = s + ds
+            if guard and (message := guard(new_values)):
+                raise ContinuationError(f"step {step}: {message}")
 
             accepted = problem.save()
             if end(new_values) >= 0:
@@ -213,7 +237,9 @@ class ArcLength:
             base, tangent, values, s = problem.save(), new_tangent, new_values, s + ds
             progress(f"step {step:4d}  s={s:.4f}  ds={ds:.3g}  its={problem.iterations}  "
                      + "  ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
-            ds = min(p.ds_max, ds * min(2.0, max(0.5, p.target_iterations / its)))
+            # the step cap grows with the load, so unbounded loads (locking) are reached in few steps
+            cap = p.ds_max * max(1.0, abs(float(base[il][0])) / self.load_scale)
+            ds = min(cap, ds * min(2.0, max(0.5, p.target_iterations / its)))
         else:
             raise ContinuationError(f"max_steps = {p.max_steps} reached before the end point")
         branch.wall_time_s = time.perf_counter() - t0

@@ -81,3 +81,18 @@ class PointExpression:
 def point_value(expr, mesh, point) -> np.ndarray:
     """One-off evaluation of ``expr`` at ``point`` (compiles each call; prefer PointEvaluator)."""
     return PointEvaluator(mesh, point).expression(expr)()
+
+
+def cell_maximum(mesh, expr, degree: int = 1):
+    """A callable giving the global maximum of ``expr`` sampled at Gauss points of every cell."""
+    import basix
+
+    points, _ = basix.make_quadrature(mesh.basix_cell(), max(2 * degree, 1))
+    compiled = fem.Expression(expr, points)
+    cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
+
+    def maximum() -> float:
+        local = compiled.eval(mesh, cells).max() if cells.size else -np.inf
+        return mesh.comm.allreduce(float(local), op=MPI.MAX)
+
+    return maximum

@@ -27,18 +27,23 @@ class Problem:
         petsc_options: scene defaults, layered over bcfem's (the user's win).
         rows: replacement residual forms, keyed by state name.
         jit_options: passed to dolfinx (e.g. a cache directory).
+        energy_scale: the energy is divided by this before differentiation, so that
+            residuals are O(1) and absolute tolerances mean the same for every
+            parameter set (e.g. a strong surface tension).
     """
 
     def __init__(self, ctx, terms, bcs, prefix: str, petsc_options: dict | None = None,
-                 rows: dict | None = None, jit_options: dict | None = None):
+                 rows: dict | None = None, jit_options: dict | None = None, energy_scale: float = 1.0):
         self.ctx = ctx
         self.terms = list(terms)
         self.lagrangian = sum(term.energy(ctx) for term in self.terms)
         rows = rows or {}
+        # a Constant, so that a new scale does not mean a new compiled form
+        inverse_scale = fem.Constant(ctx.mesh, 1.0 / energy_scale)
         self.names = list(ctx.states)
         self.states = [ctx.states[n] for n in self.names]
         residuals = [rows[n] if n in rows else
-                     ufl.derivative(self.lagrangian, s, ufl.TestFunction(s.function_space))
+                     ufl.derivative(inverse_scale * self.lagrangian, s, ufl.TestFunction(s.function_space))
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
         self.options = options.merge(prefix, petsc_options)

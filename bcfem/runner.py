@@ -11,7 +11,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from bcfem import io
-from bcfem.continuation import ArcLength, Branch
+from bcfem.continuation import ArcLength, Branch, ContinuationError
 from bcfem.log import logger
 from bcfem.problem import Problem
 
@@ -28,12 +28,34 @@ def versions() -> dict:
 
 def trace(scene, on_accept=None) -> tuple[Branch, Problem]:
     """Build the arc-length problem of ``scene``, start it and follow the branch."""
-    arc = ArcLength(scene.ctx, scene.load, scene.continuation)
+    arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
     problem = Problem(scene.ctx, scene.terms, scene.bcs, scene.prefix,
-                      scene.petsc_options, rows=arc.rows())
-    arc.start(problem, scene.start())
-    branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept)
+                      scene.petsc_options, rows=arc.rows(), energy_scale=scene.load_scale)
+    try:
+        start(arc, problem, scene)
+        branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
+                           guard=scene.guard)
+    except ContinuationError as err:
+        err.problem = problem
+        if not hasattr(err, "branch"):
+            err.branch = Branch()
+        raise
     return branch, problem
+
+
+def start(arc, problem, scene, attempts: int = 6) -> None:
+    """Converge the first point; if the guess is too far, start closer to the unloaded state.
+
+    Each retry halves the starting load level of the scene's guess (a flatter
+    cap is closer to its equilibrium); the last failure is raised.
+    """
+    for attempt in range(attempts):
+        try:
+            arc.start(problem, scene.start(0.5**attempt))
+            return
+        except ContinuationError:
+            if attempt == attempts - 1:
+                raise
 
 
 def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dict:
@@ -45,7 +67,13 @@ def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dic
     comm.barrier()
     fields = io.FieldWriter(comm, out / "fields.bp", scene.fields) if scene.fields else None
     on_accept = (lambda values: fields.write(values["s"])) if fields else None
-    branch, problem = trace(scene, on_accept)
+    status, error = "complete", None
+    try:
+        branch, problem = trace(scene, on_accept)
+    except ContinuationError as err:
+        # keep what converged, and say plainly that the branch is incomplete
+        status, error = "failed", str(err)
+        branch, problem = err.branch, err.problem
     if fields:
         fields.close()
     dofs = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.bs
@@ -57,6 +85,8 @@ def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dic
     io.write_csv(out / "branch.csv", branch.rows, comm, columns)
     summary = {
         "scene": scene.name,
+        "status": status,
+        "error": error,
         "parameters": asdict(params),
         "limit_points": [{**lp.values, "kind": lp.kind} for lp in branch.limit_points],
         "steps": len(branch.rows),
@@ -75,6 +105,8 @@ def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dic
         for name, (x, y, xl, yl) in scene.plots.items():
             fig = branch_figure(branch, x, y, xl, yl, title=scene.name)
             io.save_figure(fig, out / name, comm)
+    if error:
+        raise ContinuationError(f"{error} (the converged part is in {out})")
     logger.info(f"{scene.name}: {len(branch.rows)} points, {len(branch.limit_points)} limit points, "
                 f"{wall:.2f} s -> {out}")
     return summary

@@ -21,7 +21,8 @@ class Scene:
         terms: energy terms; only these are compiled.
         bcs: Dirichlet conditions.
         load: name of the real-space state that is the load parameter.
-        start: sets an initial guess in the states and returns the starting load.
+        start: ``start(fraction)`` sets an initial guess at ``fraction`` of the
+            scene's starting level and returns the starting load.
         observe: collective; observables of the current state (normalised).
         end: the path ends where this turns positive.
         progress_keys: observables shown in the progress line.
@@ -29,6 +30,8 @@ class Scene:
         fields: functions written to the VTX file.
         continuation: step control of the load path.
         plots: PNG file name -> (x column, y column, x label, y label).
+        load_scale: typical magnitude of the load, for the arc-length norm.
+        guard: message for a converged state that is physically out of range, else None.
     """
 
     name: str
@@ -36,7 +39,7 @@ class Scene:
     terms: list
     bcs: list
     load: str
-    start: Callable[[], float]
+    start: Callable[[float], float]
     observe: Callable[[], dict]
     end: Callable[[dict], float]
     progress_keys: tuple[str, ...] = ()
@@ -44,6 +47,8 @@ class Scene:
     fields: list = field(default_factory=list)
     continuation: ContinuationParams = field(default_factory=ContinuationParams)
     plots: dict = field(default_factory=dict)
+    load_scale: float = 1.0
+    guard: Callable[[dict], str | None] | None = None
 
     @property
     def prefix(self) -> str:

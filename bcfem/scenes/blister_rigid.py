@@ -26,7 +26,7 @@ from bcfem.context import Context
 from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.kinematics import AxisymmetricMembrane
 from bcfem.materials import MATERIALS, Gent, NeoHookean
-from bcfem.mpi import PointEvaluator, global_sum, real_value
+from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
 from bcfem.params import ContinuationParams, require
 from bcfem.scene import Scene
 from bcfem.theory.membrane import simple_membrane_pressure
@@ -133,15 +133,33 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     bcs = clamped_edge(V)
     observe = observables(ctx, terms)
 
-    def start() -> float:
-        return cap_guess(ctx, params)
+    def start(fraction: float = 1.0) -> float:
+        return cap_guess(ctx, params, fraction * params.v_start)
 
     return Scene(name="blister-rigid", ctx=ctx, terms=terms, bcs=bcs, load="pressure",
                  start=start, observe=observe,
                  end=lambda values: values["V_over_V0"] - params.v_max,
                  progress_keys=("V_over_V0", "P", "aspect"), fields=[u],
                  continuation=params.continuation,
-                 plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")})
+                 plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
+                 # membrane pressures are O(stiffness), a droplet's O(2 alpha)
+                 load_scale=max(params.stiffness, 2 * params.alpha),
+                 guard=locking_guard(params))
+
+
+def locking_guard(params: Params):
+    """Stop with a clear message when a Gent membrane locks (I1 - 3 -> Jm)."""
+    if params.material != "gent":
+        return None
+
+    def guard(values):
+        if values["I1_minus_3_max"] > 0.99 * params.Jm:
+            return (f"the Gent membrane is locking: max(I1 - 3) = {values['I1_minus_3_max']:.6g} "
+                    f"reached 0.99 Jm (Jm = {params.Jm:g}) at V/V0 = {values['V_over_V0']:.6g}, "
+                    f"P = {values['P']:.6g}, before v-max = {params.v_max:g}; lower v-max or raise Jm")
+        return None
+
+    return guard
 
 
 def clamped_edge(V) -> list:
@@ -165,6 +183,7 @@ def observables(ctx, terms):
     apex = PointEvaluator(ctx.mesh, [0.0]).expression(u[1])
     edge_slope = PointEvaluator(ctx.mesh, [1.0]).expression(ufl.as_vector([kin.dr, kin.dz]))
     pressure = ctx.real_state("pressure")
+    I1 = cell_maximum(ctx.mesh, kin.I1 - 3, ctx.u.function_space.element.basix_element.degree)
 
     def observe() -> dict:
         dr, dz = edge_slope()
@@ -174,18 +193,19 @@ def observables(ctx, terms):
             "aspect": float(apex()[0]),
             "contact_angle_deg": math.degrees(math.atan2(-dz, dr)),
             "energy": global_sum(energy) / math.pi,
+            "I1_minus_3_max": I1(),
         }
 
     return observe
 
 
-def cap_guess(ctx, params: Params) -> float:
-    """Set u to the simple-membrane cap of volume v_start (eqs. 3.11-3.12); return its pressure.
+def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
+    """Set u to the simple-membrane cap of volume V/V0 (eqs. 3.11-3.12); return its pressure.
 
     A flat membrane has no tension, so Newton cannot start there.
     """
-    h = 8.0 / 3.0 * params.v_start  # V/V0 = 3h/8 for z = h(1 - R^2)
+    h = 8.0 / 3.0 * v_over_v0  # V/V0 = 3h/8 for z = h(1 - R^2)
     c = h * h  # optimal c = 2 h^2 (3 - nu)/5 with nu = 1/2
     ctx.u.interpolate(lambda x: np.vstack([c * x[0] * (1 - x[0]), h * (1 - x[0] ** 2)]))
     # pressure: the simple-membrane stretching part plus the surface-tension part (T = alpha)
-    return simple_membrane_pressure(params.v_start) * params.stiffness + 32.0 * params.alpha * params.v_start / 3.0
+    return simple_membrane_pressure(v_over_v0) * params.stiffness + 32.0 * params.alpha * v_over_v0 / 3.0
