@@ -19,10 +19,12 @@ class Context:
 
     Args:
         u: the displacement field (the first state).
-        kinematics: the kinematics object of the model (e.g. AxisymmetricMembrane).
+        kinematics: the kinematics object of the model (e.g. AxisymmetricMembrane);
+            may be set later as ``ctx.kin`` when it depends on a state of the
+            context (a moving edge radius).
     """
 
-    def __init__(self, u: fem.Function, kinematics):
+    def __init__(self, u: fem.Function, kinematics=None):
         self.u = u
         self.kin = kinematics
         self.mesh = u.function_space.mesh
