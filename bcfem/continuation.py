@@ -51,11 +51,27 @@ class LimitPoint:
 
 
 @dataclass
+class Switch:
+    """A change of the model along the path, such as delamination onset.
+
+    When ``function(values)`` turns from negative to non-negative within a
+    step, the crossing is located to ``event_tol``, recorded, and ``action()``
+    is called there (e.g. it frees the debond radius); the path goes on from
+    that point with the new equations.
+    """
+
+    name: str
+    function: Callable[[dict], float]
+    action: Callable[[], None]
+
+
+@dataclass
 class Branch:
     """Converged points, in order along the path, with their observables."""
 
     rows: list[dict] = field(default_factory=list)
     limit_points: list[LimitPoint] = field(default_factory=list)
+    events: list[dict] = field(default_factory=list)
     newton_iterations: int = 0
     failed_steps: int = 0
     wall_time_s: float = 0.0
@@ -152,19 +168,20 @@ class ArcLength:
                 f"no converged start at {self.parameter} = {value:g} "
                 f"(SNES reason {problem.reason}); give a better initial guess")
 
-    def trace(self, problem, observe, end, progress_keys=(), on_accept=None, guard=None) -> Branch:
+    def trace(self, problem, observe, end, progress_keys=(), on_accept=None, guard=None,
+              switches=()) -> Branch:
         """Follow the branch; see :meth:`_trace`. A :class:`ContinuationError` carries
         the converged part of the branch as ``error.branch``."""
         self._partial = Branch()
         try:
-            return self._trace(problem, observe, end, progress_keys, on_accept, guard)
+            return self._trace(problem, observe, end, progress_keys, on_accept, guard, switches)
         except ContinuationError as error:
             error.branch = self._partial
             raise
 
     def _trace(self, problem, observe: Callable[[], dict], end: Callable[[dict], float],
               progress_keys: tuple[str, ...] = (), on_accept: Callable[[dict], None] | None = None,
-              guard: Callable[[dict], str | None] | None = None) -> Branch:
+              guard: Callable[[dict], str | None] | None = None, switches=()) -> Branch:
         """Follow the branch from the current converged state until ``end(values)`` crosses zero.
 
         Args:
@@ -176,6 +193,8 @@ class ArcLength:
             on_accept: collective; called with the observables at each stored point.
             guard: returns a message when a converged state is physically out of
                 range (e.g. a locking Gent membrane); the trace then stops with it.
+            switches: :class:`Switch` events (each fires at most once). If the end
+                and a switch fall in the same step, the end wins.
         """
         p = self.params
         t0 = time.perf_counter()
@@ -192,6 +211,7 @@ class ArcLength:
             raise ContinuationError("the branch starts beyond its end point")
         ds = p.ds
         il = self._index(problem)[1]
+        pending = list(switches)
         for step in range(1, p.max_steps + 1):
             while True:
                 if self._solve_at(problem, base, tangent, ds):
@@ -227,10 +247,29 @@ class ArcLength:
                 if on_accept:
                     on_accept(last)
                 break
+            fired = next((sw for sw in pending if sw.function(values) < 0 <= sw.function(new_values)), None)
+            if fired:
+                # end the step at the switch (the old model holds up to there)
+                pending.remove(fired)
+                ds = self._locate(problem, base, tangent, ds, lambda: fired.function(observe()),
+                                  fired.function(values), fired.function(new_values))
+                accepted = problem.save()
+                new_values = observe()
+                new_values["s"] = s + ds
+                new_tangent = self._tangent(problem)
             if np.sign(new_tangent[il][0]) != np.sign(tangent[il][0]):
                 branch.limit_points.append(self._locate_fold(
                     problem, base, tangent, ds, s, observe, float(new_tangent[il][0])))
                 problem.restore(accepted)
+            if fired:
+                # change the model there and go on from the same point
+                branch.events.append({"name": fired.name, **new_values})
+                fired.action()
+                if not problem.solve():
+                    raise ContinuationError(f"no converged state after '{fired.name}' "
+                                            f"(SNES reason {problem.reason})")
+                new_tangent = self._tangent(problem)
+                progress(f"event: {fired.name} at s={s + ds:.6g}")
             branch.rows.append(new_values)
             if on_accept:
                 on_accept(new_values)
