@@ -141,8 +141,12 @@ class ArcLength:
         """Unit tangent at the current (converged) state, oriented along the current row."""
         rhs_functions = [fem.Function(s.function_space) for s in problem.states]
         rhs_functions[self._index(problem)[1]].x.array[:] = 1.0
-        y = problem.solve_jacobian(problem.vector_from(rhs_functions))
+        rhs = problem.vector_from(rhs_functions)
+        y = problem.solve_jacobian(rhs)
         problem.functions_from(y, rhs_functions)
+        # destroyed here, not by the garbage collector (collective; order must match on all ranks)
+        rhs.destroy()
+        y.destroy()
         tangent = [f.x.array.copy() for f in rhs_functions]
         norm = self._norm(problem, tangent)
         return [t / norm for t in tangent]

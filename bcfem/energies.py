@@ -80,3 +80,28 @@ class PressureVolume:
         kin = ctx.kin
         # V-hat is spread over the reference area so the whole term is one integrand
         return kin.integral(-p * (kin.volume_density - v_target / kin.reference_area))
+
+
+@dataclass(frozen=True)
+class WettedSubstrate:
+    r"""Interface energy change where the liquid wets the substrate, :math:`\gamma\,\pi r_0^2`.
+
+    :math:`\pi r_0^2` is the projected area inside the current edge radius
+    :math:`r_0 = r(R_1)`, written as the domain integral
+    :math:`\int 2\pi r r'\,dR = \int \lambda_\theta r'\,dA`, so that its
+    variation in the edge position (and in an unknown debond radius) is exact.
+    ``gamma`` is the energy per wetted area: :math:`\gamma_{ls} - \gamma_s`
+    for a sliding edge, :math:`\gamma_{ls} - \Delta\gamma` for an adhesive one
+    (eq. 3.42).
+
+    Attributes:
+        gamma: energy per wetted area [N/m] (any sign).
+        name: name of the run-time constant.
+    """
+
+    gamma: float
+    name: str = "gamma_wet"
+
+    def energy(self, ctx):
+        gamma = ctx.constant(self.name, self.gamma)
+        return ctx.kin.integral(gamma * ctx.kin.lam_theta * ctx.kin.dr)

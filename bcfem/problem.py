@@ -25,7 +25,8 @@ class Problem:
         bcs: Dirichlet conditions on the displacement.
         prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
         petsc_options: scene defaults, layered over bcfem's (the user's win).
-        rows: replacement residual forms, keyed by state name.
+        rows: replacement residuals, keyed by state name: a UFL form, or a callable
+            that takes the (scaled) Lagrangian and returns one.
         jit_options: passed to dolfinx (e.g. a cache directory).
         energy_scale: the energy is divided by this before differentiation, so that
             residuals are O(1) and absolute tolerances mean the same for every
@@ -42,8 +43,9 @@ class Problem:
         inverse_scale = fem.Constant(ctx.mesh, 1.0 / energy_scale)
         self.names = list(ctx.states)
         self.states = [ctx.states[n] for n in self.names]
-        residuals = [rows[n] if n in rows else
-                     ufl.derivative(inverse_scale * self.lagrangian, s, ufl.TestFunction(s.function_space))
+        scaled = inverse_scale * self.lagrangian
+        residuals = [(rows[n] if isinstance(rows[n], ufl.Form) else rows[n](scaled)) if n in rows else
+                     ufl.derivative(scaled, s, ufl.TestFunction(s.function_space))
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
         self.options = options.merge(prefix, petsc_options)

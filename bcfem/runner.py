@@ -30,17 +30,34 @@ def trace(scene, on_accept=None) -> tuple[Branch, Problem]:
     """Build the arc-length problem of ``scene``, start it and follow the branch."""
     arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
     problem = Problem(scene.ctx, scene.terms, scene.bcs, scene.prefix,
-                      scene.petsc_options, rows=arc.rows(), energy_scale=scene.load_scale)
+                      scene.petsc_options, rows={**scene.rows, **arc.rows()},
+                      energy_scale=scene.load_scale)
     try:
         start(arc, problem, scene)
         branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
-                           guard=scene.guard)
+                           guard=scene.guard, switches=scene.switches)
     except ContinuationError as err:
         err.problem = problem
         if not hasattr(err, "branch"):
             err.branch = Branch()
         raise
     return branch, problem
+
+
+def branch_of(scene) -> Branch:
+    """Trace ``scene`` and destroy its PETSc objects at once, also when the trace fails.
+
+    For scripts that need only the branch; left to the garbage collector, the
+    objects can deadlock at exit under MPI.
+    """
+    try:
+        branch, problem = trace(scene)
+    except ContinuationError as error:
+        if getattr(error, "problem", None) is not None:
+            error.problem.close()
+        raise
+    problem.close()
+    return branch
 
 
 def start(arc, problem, scene, attempts: int = 6) -> None:

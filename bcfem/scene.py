@@ -32,6 +32,8 @@ class Scene:
         plots: PNG file name -> (x column, y column, x label, y label).
         load_scale: typical magnitude of the load, for the arc-length norm.
         guard: message for a converged state that is physically out of range, else None.
+        rows: replacement residual rows of states (e.g. a held or free debond radius).
+        switches: model changes along the path (``bcfem.continuation.Switch``).
     """
 
     name: str
@@ -49,6 +51,8 @@ class Scene:
     plots: dict = field(default_factory=dict)
     load_scale: float = 1.0
     guard: Callable[[dict], str | None] | None = None
+    rows: dict = field(default_factory=dict)
+    switches: list = field(default_factory=list)
 
     @property
     def prefix(self) -> str:

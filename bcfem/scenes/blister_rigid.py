@@ -28,7 +28,9 @@ from bcfem.kinematics import AxisymmetricMembrane
 from bcfem.materials import MATERIALS, Gent, NeoHookean
 from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
 from bcfem.params import ContinuationParams, require
+from bcfem.continuation import Switch
 from bcfem.scene import Scene
+from bcfem.scenes.membrane_edges import EDGES
 from bcfem.theory.membrane import simple_membrane_pressure
 
 V0 = 4.0 * math.pi / 3.0  # reference volume 4/3 pi R0^3, with R0 = 1
@@ -59,8 +61,12 @@ HELP = {
     "cells": "cells across R0, >= 2",
     "degree": "Lagrange degree of the displacement, 1..4",
     "stiffness": "membrane stiffness mu_f t0 relative to the unit, > 0 (small: droplet limit)",
+    "edge": "edge condition: clamped, sliding (free radial slip, Young angle phi-Y), "
+            "adhesive (delamination when it lowers the free energy)",
+    "phi_Y_deg": "Young angle of the liquid on the substrate [deg], in (0, 180) (sliding edge)",
+    "adhesion": "(gamma_ls - dgamma)/(mu_f t0), cost of debonding per area (adhesive edge)",
 }
-COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "s"]
+COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "R1_over_R0", "r1_over_R0", "s"]
 
 
 @dataclass(frozen=True)
@@ -88,9 +94,12 @@ class Params:
     cells: int = 200
     degree: int = 2
     stiffness: float = 1.0
+    edge: str = "clamped"
+    phi_Y_deg: float = 135.0
+    adhesion: float = 2.5
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
 
-    CHOICES = {"material": sorted(MATERIALS)}
+    CHOICES = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
 
     def __post_init__(self):
         require(self.material in MATERIALS,
@@ -103,6 +112,9 @@ class Params:
         require(1 <= self.degree <= 4, f"degree must be in 1..4 (got {self.degree})")
         require(self.stiffness > 0 and math.isfinite(self.stiffness),
                 f"stiffness must be > 0 (got {self.stiffness})")
+        require(self.edge in EDGES, f"edge must be one of {sorted(EDGES)} (got {self.edge!r})")
+        require(0 < self.phi_Y_deg < 180, f"phi-Y-deg must be in (0, 180) (got {self.phi_Y_deg})")
+        require(math.isfinite(self.adhesion), f"adhesion must be finite (got {self.adhesion})")
 
     def material_model(self):
         if self.material == "gent":
@@ -122,21 +134,26 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     msh = mesh.create_interval(comm, params.cells, [0.0, 1.0])
     V = fem.functionspace(msh, ("Lagrange", params.degree, (2,)))
     u = fem.Function(V, name="displacement")
-    kin = AxisymmetricMembrane(u, quadrature_degree=2 * params.degree + 2)
-    ctx = Context(u, kin)
+    ctx = Context(u)
+    edge = EDGES[params.edge](ctx, params)
+    ctx.kin = AxisymmetricMembrane(u, quadrature_degree=2 * params.degree + 2, radius=edge.radius)
     terms = [MembraneStrain(params.material_model())]
     if params.alpha > 0:
         terms.append(SurfaceTension(params.alpha))
     terms.append(PressureVolume())
+    terms.extend(edge.terms)
     terms.extend(extra_terms)
-
-    bcs = clamped_edge(V)
     observe = observables(ctx, terms)
+    switches = []
+    if edge.free is not None:
+        # Griffith, no healing: the edge moves once the energy release rate -dPi/dR1 turns positive
+        switches.append(Switch("delamination onset", lambda values: -values["dPi_dR1"],
+                               lambda: setattr(edge.free, "value", 1.0)))
 
     def start(fraction: float = 1.0) -> float:
         return cap_guess(ctx, params, fraction * params.v_start)
 
-    return Scene(name="blister-rigid", ctx=ctx, terms=terms, bcs=bcs, load="pressure",
+    return Scene(name="blister-rigid", ctx=ctx, terms=terms, bcs=edge.bcs, load="pressure",
                  start=start, observe=observe,
                  end=lambda values: values["V_over_V0"] - params.v_max,
                  progress_keys=("V_over_V0", "P", "aspect"), fields=[u],
@@ -144,7 +161,7 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
                  # membrane pressures are O(stiffness), a droplet's O(2 alpha)
                  load_scale=max(params.stiffness, 2 * params.alpha),
-                 guard=locking_guard(params))
+                 guard=locking_guard(params), rows=edge.rows, switches=switches)
 
 
 def locking_guard(params: Params):
@@ -162,19 +179,6 @@ def locking_guard(params: Params):
     return guard
 
 
-def clamped_edge(V) -> list:
-    """u = 0 at R = 1; u_r = 0 on the axis (symmetry)."""
-    msh = V.mesh
-    fdim = msh.topology.dim - 1
-    edge = mesh.locate_entities_boundary(msh, fdim, lambda x: np.isclose(x[0], 1.0))
-    axis = mesh.locate_entities_boundary(msh, fdim, lambda x: np.isclose(x[0], 0.0))
-    zero = np.zeros(2, dtype=fem.Function(V).x.array.dtype)
-    Vr, _ = V.sub(0).collapse()
-    axis_dofs = fem.locate_dofs_topological((V.sub(0), Vr), fdim, axis)
-    return [fem.dirichletbc(zero, fem.locate_dofs_topological(V, fdim, edge), V),
-            fem.dirichletbc(fem.Function(Vr), axis_dofs, V.sub(0))]
-
-
 def observables(ctx, terms):
     """Compile the observables once; returns a collective callable."""
     kin, u = ctx.kin, ctx.u
@@ -183,6 +187,13 @@ def observables(ctx, terms):
     apex = PointEvaluator(ctx.mesh, [0.0]).expression(u[1])
     edge_slope = PointEvaluator(ctx.mesh, [1.0]).expression(ufl.as_vector([kin.dr, kin.dz]))
     pressure = ctx.real_state("pressure")
+    edge_radius = PointEvaluator(ctx.mesh, [1.0]).expression(kin.r)
+    release = None
+    if "debond_radius" in ctx.states:
+        R1 = ctx.states["debond_radius"]
+        one = fem.Function(R1.function_space)
+        one.x.array[:] = 1.0
+        release = fem.form(ufl.derivative(sum(t.energy(ctx) for t in terms), R1, one))
     I1 = cell_maximum(ctx.mesh, kin.I1 - 3, ctx.u.function_space.element.basix_element.degree)
 
     def observe() -> dict:
@@ -194,6 +205,9 @@ def observables(ctx, terms):
             "contact_angle_deg": math.degrees(math.atan2(-dz, dr)),
             "energy": global_sum(energy) / math.pi,
             "I1_minus_3_max": I1(),
+            "R1_over_R0": real_value(ctx.states["debond_radius"]) if release else 1.0,
+            "r1_over_R0": float(edge_radius()[0]),
+            **({"dPi_dR1": global_sum(release) / math.pi} if release else {}),
         }
 
     return observe

@@ -1,0 +1,96 @@
+r"""Edge conditions of an axisymmetric membrane blister, each derived from one energy.
+
+An edge is what it adds to the model: Dirichlet conditions, energy terms and,
+for a moving edge, a global unknown with its own residual row. The Young-type
+and Griffith-type edge conditions of eqs. 3.59-3.64 are then the natural
+(transversality) conditions of the total free energy; nothing is hand-coded.
+
+* clamped: u = 0 at R0.
+* sliding: z = 0 at the material edge R0 = 1, r0 = r(R0) free; the liquid wets
+  π r0² of substrate at (γ_ls - γ_s) = -γ_l cos φY per area (Young's angle φY).
+* adhesive: the debond radius R1 >= 1 is a real-space unknown (R = R1 ξ);
+  u = 0 at R1 (the bonded film is unstretched, r1 = R1); debonding costs
+  (γ_ls - Δγ) per area. Its row holds R1 until the configurational force
+  ∂Π/∂R1 turns negative (onset, a Switch), then is ∂Π/∂R1 = 0.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import ufl
+from dolfinx import fem, mesh
+
+from bcfem.energies import WettedSubstrate
+
+
+@dataclass
+class Edge:
+    """What an edge condition contributes to a blister model."""
+
+    name: str
+    bcs: list
+    terms: list = field(default_factory=list)
+    radius: object = None  # UFL reference radius for the kinematics (None: R0 = 1)
+    rows: dict = field(default_factory=dict)  # state -> callable(lagrangian) -> residual form
+    free: fem.Constant | None = None  # 1 once a moving edge is released
+
+
+def _boundary_dofs(V, x0):
+    msh = V.mesh
+    fdim = msh.topology.dim - 1
+    facets = mesh.locate_entities_boundary(msh, fdim, lambda x: np.isclose(x[0], x0))
+    return fdim, facets
+
+
+def _axis_bc(V):
+    fdim, axis = _boundary_dofs(V, 0.0)
+    Vr, _ = V.sub(0).collapse()
+    dofs = fem.locate_dofs_topological((V.sub(0), Vr), fdim, axis)
+    return fem.dirichletbc(fem.Function(Vr), dofs, V.sub(0))
+
+
+def _fixed_edge_bc(V):
+    fdim, edge = _boundary_dofs(V, 1.0)
+    zero = np.zeros(2, dtype=fem.Function(V).x.array.dtype)
+    return fem.dirichletbc(zero, fem.locate_dofs_topological(V, fdim, edge), V)
+
+
+def _lifted_edge_bc(V):
+    """z = 0 at the edge; r free."""
+    fdim, edge = _boundary_dofs(V, 1.0)
+    Vz, _ = V.sub(1).collapse()
+    dofs = fem.locate_dofs_topological((V.sub(1), Vz), fdim, edge)
+    return fem.dirichletbc(fem.Function(Vz), dofs, V.sub(1))
+
+
+def clamped(ctx, params) -> Edge:
+    V = ctx.u.function_space
+    return Edge("clamped", [_fixed_edge_bc(V), _axis_bc(V)])
+
+
+def sliding(ctx, params) -> Edge:
+    V = ctx.u.function_space
+    wet = -params.alpha * math.cos(math.radians(params.phi_Y_deg))  # (γ_ls - γ_s)/(μ t0)
+    return Edge("sliding", [_lifted_edge_bc(V), _axis_bc(V)], terms=[WettedSubstrate(wet)])
+
+
+def adhesive(ctx, params) -> Edge:
+    V = ctx.u.function_space
+    R1 = ctx.real_state("debond_radius")
+    R1.x.array[:] = 1.0
+    free = fem.Constant(ctx.mesh, 0.0)
+    q = ufl.TestFunction(R1.function_space)
+    hold = (R1 - 1.0) * q * ufl.dx(domain=ctx.mesh)
+
+    def row(lagrangian):
+        # held at R0 before onset; the transversality condition dPi/dR1 = 0 after
+        return free * ufl.derivative(lagrangian, R1, q) + (1 - free) * hold
+
+    return Edge("adhesive", [_fixed_edge_bc(V), _axis_bc(V)], terms=[WettedSubstrate(params.adhesion)],
+                radius=R1, rows={"debond_radius": row}, free=free)
+
+
+EDGES = {"clamped": clamped, "sliding": sliding, "adhesive": adhesive}

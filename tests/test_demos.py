@@ -1,0 +1,72 @@
+"""Every ``demos/*.py`` runs to completion, in serial and under ``mpirun -n 2``.
+
+Each demo is a script that ends in its own assertions, so exit code 0 means its
+reference values were met. Demos take ``--out DIR`` for their results; the test
+also checks that the expected files are there, that nothing temporary is left
+behind and that only rank 0 printed.
+
+Marked ``serial``: pytest itself must not run under mpirun, since it launches
+mpirun. The mpirun variant is part of the default run (each demo takes well
+under a minute on two ranks).
+"""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.serial
+
+BIN = Path(sys.executable).parent
+DEMOS = sorted((Path(__file__).resolve().parents[1] / "demos").glob("*.py"))
+# files each demo must write into --out (any other demo must write a PNG and a CSV)
+EXPECTED = {
+    "blister_theories.py": ["theories.png", "curves.csv", "summary.json"],
+    "blister_surface_tension.py": ["surface_tension.png", "curves.csv", "summary.json"],
+}
+TIMEOUT = 600  # [s]; a deadlock at exit shows up as a timeout, not a hang
+
+
+def run_demo(demo: Path, out: Path, ranks: int) -> subprocess.CompletedProcess:
+    cmd = [sys.executable, str(demo), "--out", str(out)]
+    if ranks > 1:
+        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ.get('PATH', '')}"}
+    return subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=out.parent,
+                          timeout=TIMEOUT)
+
+
+def check_outputs(demo: Path, out: Path, res: subprocess.CompletedProcess) -> None:
+    assert res.returncode == 0, f"{demo.name} failed:\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}"
+    files = {p.name for p in out.iterdir()}
+    for name in EXPECTED.get(demo.name, []):
+        assert name in files, f"{demo.name} did not write {name} (wrote {sorted(files)})"
+        assert (out / name).stat().st_size > 0, f"{demo.name}: {name} is empty"
+    assert any(f.endswith(".png") for f in files), f"{demo.name} wrote no PNG"
+    assert any(f.endswith(".csv") for f in files), f"{demo.name} wrote no CSV"
+    assert not [f for f in files if ".tmp" in f], f"{demo.name} left temporary files: {sorted(files)}"
+
+
+def test_demos_found():
+    assert DEMOS, "no demos/*.py"
+    missing = set(EXPECTED) - {d.name for d in DEMOS}
+    assert not missing, f"EXPECTED names demos that do not exist: {sorted(missing)}"
+
+
+@pytest.mark.parametrize("demo", DEMOS, ids=lambda p: p.stem)
+def test_demo_serial(demo, tmp_path):
+    out = tmp_path / "out"
+    check_outputs(demo, out, run_demo(demo, out, ranks=1))
+
+
+@pytest.mark.parametrize("demo", DEMOS, ids=lambda p: p.stem)
+def test_demo_mpi(demo, tmp_path):
+    out = tmp_path / "out"
+    res = run_demo(demo, out, ranks=2)
+    check_outputs(demo, out, res)
+    # only rank 0 prints: every line of the demo's own output appears once
+    lines = [line for line in res.stdout.splitlines() if line.strip()]
+    assert lines, f"{demo.name} printed nothing on rank 0"
+    assert len(lines) == len(set(lines)), f"{demo.name}: output repeated by several ranks:\n{res.stdout}"
