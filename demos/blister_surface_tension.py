@@ -39,18 +39,15 @@
 # continuation in $V/V_0 \in (0, 6]$ for $\alpha = 0, 0.5, 1, 2$.
 
 # %%
-import argparse
 import time
 from dataclasses import asdict
-from pathlib import Path
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 import numpy as np
 from mpi4py import MPI
 from scipy.interpolate import CubicSpline
 
-from bcfem import ContinuationParams, io
-from bcfem.log import configure
+from bcfem import ContinuationParams, demo, io
 from bcfem.runner import branch_of
 from bcfem.scenes import blister_rigid
 
@@ -72,19 +69,8 @@ CONTINUATION = ContinuationParams(ds=0.01, ds_max=0.05)
 V_SMALL = 0.25  # "small volume": below this V/V0 the Gent/NH gap must obey its small-strain bound
 LAPLACE_TOL = 1e-3  # |P/P_Laplace - 1| at V_START (elastic correction ~2e-4 at alpha = 0.5)
 
-parser = argparse.ArgumentParser(description="Dissertation Figure 3.5: elasto-capillary clamped blisters")
-parser.add_argument("--out", type=Path, default=Path("results") / "blister_surface_tension",
-                    help="output directory (default: results/blister_surface_tension)")
-parser.add_argument("--quiet", action="store_true", help="no continuation progress lines")
-args, _ = parser.parse_known_args()  # tolerate a notebook kernel's own arguments
-
 comm = MPI.COMM_WORLD
-configure(comm, quiet=args.quiet)
-
-
-def report(message: str) -> None:
-    if comm.rank == 0:
-        print(message, flush=True)
+args, report = demo.setup("blister_surface_tension", "Dissertation Figure 3.5: elasto-capillary clamped blisters", comm)
 
 
 # %% [markdown]

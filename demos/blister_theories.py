@@ -45,19 +45,16 @@
 # the Föppl theory (not to eq. 3.17) as $V \to 0$.
 
 # %%
-import argparse
 import math
 import time
 from dataclasses import asdict
-from pathlib import Path
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 import numpy as np
 from mpi4py import MPI
 from scipy.interpolate import CubicSpline
 
-from bcfem import ContinuationParams, io
-from bcfem.log import configure
+from bcfem import ContinuationParams, demo, io
 from bcfem.runner import branch_of
 from bcfem.scenes import blister_rigid
 from bcfem.theory import membrane
@@ -83,20 +80,8 @@ FOPPL_TOL = 1e-3  # |P/P_Foppl - 1| allowed at V_START (the correction is O(V^2)
 JM_CHECK_V = 0.1  # V/V0 at which the Gent correction must be linear in 1/Jm
 JM_TOL = 1e-3  # relative tolerance of that check (next order: (I1-3)/Jm ~ 2e-4 there)
 
-parser = argparse.ArgumentParser(
-    description="Dissertation Figure 3.2: membrane theories of a clamped blister")
-parser.add_argument("--out", type=Path, default=Path("results") / "blister_theories",
-                    help="output directory (default: results/blister_theories)")
-parser.add_argument("--quiet", action="store_true", help="no continuation progress lines")
-args, _ = parser.parse_known_args()  # tolerate a notebook kernel's own arguments
-
 comm = MPI.COMM_WORLD
-configure(comm, quiet=args.quiet)
-
-
-def report(message: str) -> None:
-    if comm.rank == 0:
-        print(message, flush=True)
+args, report = demo.setup("blister_theories", "Dissertation Figure 3.2: membrane theories of a clamped blister", comm)
 
 
 # %% [markdown]
