@@ -159,18 +159,26 @@ class ArcLength:
 
     # -- the path -------------------------------------------------------------------------
     def start(self, problem, value: float) -> None:
-        """Converge at fixed load ``value`` from the current states (the row is λ = value)."""
+        """Converge the first point near the guess in the states, with load guess ``value``.
+
+        The row fixes the projection of u on the guess itself (displacement
+        control along the guessed shape), so the load is an unknown from the
+        start: this is better posed than a fixed load, which a guess of the
+        wrong amplitude, or an unstable or stress-free state, can defeat.
+        """
         iu, il = self._index(problem)
-        zero = [np.zeros_like(s.x.array) for s in problem.states]
-        zero[il][:] = 1.0
-        anchor = problem.save()
-        anchor[il][:] = value
-        self._set_hyperplane(problem, zero, anchor)
         problem.state(self.parameter).x.array[:] = value
+        guess = problem.save()
+        direction = [np.zeros_like(g) for g in guess]
+        direction[iu][:] = guess[iu]
+        norm = self._norm(problem, direction)
+        if norm == 0:
+            raise ContinuationError("the start guess has zero displacement; give a shaped guess")
+        self._set_hyperplane(problem, [d / norm for d in direction], guess)
         if not problem.solve():
             raise ContinuationError(
-                f"no converged start at {self.parameter} = {value:g} "
-                f"(SNES reason {problem.reason}); give a better initial guess")
+                f"no converged start near the guess ({self.parameter} ~ {value:g}; "
+                f"SNES reason {problem.reason}); give a better initial guess")
 
     def trace(self, problem, observe, end, progress_keys=(), on_accept=None, guard=None,
               switches=()) -> Branch:
@@ -281,7 +289,7 @@ class ArcLength:
             progress(f"step {step:4d}  s={s:.4f}  ds={ds:.3g}  its={problem.iterations}  "
                      + "  ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
             # the step cap grows with the load, so unbounded loads (locking) are reached in few steps
-            cap = p.ds_max * max(1.0, abs(float(base[il][0])) / self.load_scale)
+            cap = p.ds_max * min(1e3, max(1.0, abs(float(base[il][0])) / self.load_scale))
             ds = min(cap, ds * min(2.0, max(0.5, p.target_iterations / its)))
         else:
             raise ContinuationError(f"max_steps = {p.max_steps} reached before the end point")

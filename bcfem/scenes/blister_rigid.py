@@ -161,16 +161,19 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
                  # membrane pressures are O(stiffness), a droplet's O(2 alpha)
                  load_scale=max(params.stiffness, 2 * params.alpha),
-                 guard=locking_guard(params), rows=edge.rows, switches=switches)
+                 guard=guard_for(params), rows=edge.rows, switches=switches)
 
 
-def locking_guard(params: Params):
-    """Stop with a clear message when a Gent membrane locks (I1 - 3 -> Jm)."""
-    if params.material != "gent":
-        return None
+def guard_for(params: Params):
+    """Stop with a clear message when the membrane leaves the physical range:
+    a Gent membrane locking (I1 - 3 -> Jm), or a volume that is not positive
+    (the membrane would pass through the rigid substrate)."""
 
     def guard(values):
-        if values["I1_minus_3_max"] > 0.99 * params.Jm:
+        if values["V_over_V0"] <= 0:
+            return (f"the blister volume is not positive (V/V0 = {values['V_over_V0']:.3g}, "
+                    f"P = {values['P']:.6g}): the membrane would pass through the substrate")
+        if params.material == "gent" and values["I1_minus_3_max"] > 0.99 * params.Jm:
             return (f"the Gent membrane is locking: max(I1 - 3) = {values['I1_minus_3_max']:.6g} "
                     f"reached 0.99 Jm (Jm = {params.Jm:g}) at V/V0 = {values['V_over_V0']:.6g}, "
                     f"P = {values['P']:.6g}, before v-max = {params.v_max:g}; lower v-max or raise Jm")
