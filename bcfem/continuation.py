@@ -245,7 +245,21 @@ class ArcLength:
                 raise ContinuationError(f"step {step}: {message}")
 
             accepted = problem.save()
-            if end(new_values) >= 0:
+            fired = next((sw for sw in pending if sw.function(values) < 0 <= sw.function(new_values)), None)
+            if fired:
+                # end the step at the switch (the old model holds up to there) ...
+                sigma = self._locate(problem, base, tangent, ds, lambda: fired.function(observe()),
+                                     fired.function(values), fired.function(new_values))
+                switch_values = observe()
+                if end(switch_values) >= 0:
+                    fired = None  # ... unless the end comes first
+                    problem.restore(accepted)
+                else:
+                    pending.remove(fired)
+                    ds, accepted, new_values = sigma, problem.save(), switch_values
+                    new_values["s"] = s + ds
+                    new_tangent = self._tangent(problem)
+            if not fired and end(new_values) >= 0:
                 sigma = self._locate(problem, base, tangent, ds,
                                      lambda: end(observe()), end(values), end(new_values))
                 last = observe()
@@ -259,16 +273,6 @@ class ArcLength:
                 if on_accept:
                     on_accept(last)
                 break
-            fired = next((sw for sw in pending if sw.function(values) < 0 <= sw.function(new_values)), None)
-            if fired:
-                # end the step at the switch (the old model holds up to there)
-                pending.remove(fired)
-                ds = self._locate(problem, base, tangent, ds, lambda: fired.function(observe()),
-                                  fired.function(values), fired.function(new_values))
-                accepted = problem.save()
-                new_values = observe()
-                new_values["s"] = s + ds
-                new_tangent = self._tangent(problem)
             if np.sign(new_tangent[il][0]) != np.sign(tangent[il][0]):
                 branch.limit_points.append(self._locate_fold(
                     problem, base, tangent, ds, s, observe, float(new_tangent[il][0])))

@@ -106,6 +106,8 @@ def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dic
         "error": error,
         "parameters": asdict(params),
         "limit_points": [{**lp.values, "kind": lp.kind} for lp in branch.limit_points],
+        "events": branch.events,
+        **(scene.summarize(branch) if scene.summarize else {}),
         "steps": len(branch.rows),
         "newton_iterations": branch.newton_iterations,
         "failed_steps": branch.failed_steps,

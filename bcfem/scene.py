@@ -34,6 +34,7 @@ class Scene:
         guard: message for a converged state that is physically out of range, else None.
         rows: replacement residual rows of states (e.g. a held or free debond radius).
         switches: model changes along the path (``bcfem.continuation.Switch``).
+        summarize: extra entries of ``summary.json`` from the finished branch.
     """
 
     name: str
@@ -53,6 +54,7 @@ class Scene:
     guard: Callable[[dict], str | None] | None = None
     rows: dict = field(default_factory=dict)
     switches: list = field(default_factory=list)
+    summarize: Callable[[object], dict] | None = None
 
     @property
     def prefix(self) -> str:

@@ -161,7 +161,24 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
                  # membrane pressures are O(stiffness), a droplet's O(2 alpha)
                  load_scale=max(params.stiffness, 2 * params.alpha),
-                 guard=guard_for(params), rows=edge.rows, switches=switches)
+                 guard=guard_for(params), rows=edge.rows, switches=switches,
+                 summarize=summarize)
+
+
+def summarize(branch) -> dict:
+    """``delamination_onset``: where the edge started to move, or None.
+
+    At the onset the clamped and the propagated states are the same state, so
+    their free energies agree; both are reported as a consistency check
+    (the clamped one from the last held point, the propagated one from the
+    first free point, which the continuation reaches by re-solving).
+    """
+    onset = next((e for e in branch.events if e["name"] == "delamination onset"), None)
+    if onset is None:
+        return {"delamination_onset": None}
+    after = next(row for row in branch.rows if row["s"] >= onset["s"])
+    return {"delamination_onset": {"V_over_V0": onset["V_over_V0"], "P": onset["P"],
+                                   "energy_clamped": onset["energy"], "energy_propagated": after["energy"]}}
 
 
 def guard_for(params: Params):
@@ -226,3 +243,54 @@ def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
     ctx.u.interpolate(lambda x: np.vstack([c * x[0] * (1 - x[0]), h * (1 - x[0] ** 2)]))
     # pressure: the simple-membrane stretching part plus the surface-tension part (T = alpha)
     return simple_membrane_pressure(v_over_v0) * params.stiffness + 32.0 * params.alpha * v_over_v0 / 3.0
+
+
+def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float = 1e-4,
+                    xtol: float = 1e-12) -> dict:
+    """Delamination onset by comparing energies at fixed volume (the dissertation's method).
+
+    At fixed V the stable state minimises the Helmholtz free energy
+    F = U + gamma_l A + (gamma_ls - dgamma) pi r1^2 (= Pi + dp V). The clamped
+    blister starts to propagate at the volume where moving the edge stops
+    costing energy: F(V, 1 + h) = F(V, 1 - h), compared by solving the blister
+    with the debond radius held at 1 +- h. Independent of the transversality
+    row dPi/dR1 that the continuation uses.
+
+    Args:
+        params: an adhesive-edge parameter set.
+        bracket: (V/V0 below, V/V0 above) the onset.
+        h: the virtual edge advance.
+
+    Returns:
+        {"V_over_V0": Vc/V0, "P": pressure at onset, "dF_dR1": residual slope}.
+    """
+    from scipy.optimize import brentq
+
+    from bcfem.continuation import VolumeControl
+    from bcfem.problem import Problem
+
+    require(params.edge == "adhesive", "onset_by_energy needs edge='adhesive'")
+    scene = build(params, comm)
+    ctx = scene.ctx
+    held = ctx.constant("debond_radius_held")
+    R1 = ctx.states["debond_radius"]
+    scene.start()
+    with Problem(ctx, scene.terms, scene.bcs, scene.prefix, scene.petsc_options, rows=scene.rows,
+                 energy_scale=scene.load_scale) as problem:
+        control = VolumeControl(ctx)
+        energy = fem.form(sum(t.energy(ctx) for t in scene.terms))
+
+        def helmholtz(v, radius):
+            held.value = radius
+            R1.x.array[:] = radius
+            control.solve_to(problem, v * V0)
+            return global_sum(energy) / math.pi  # the multiplier term vanishes at V = V-hat
+
+        def slope(v):
+            return (helmholtz(v, 1 + h) - helmholtz(v, 1 - h)) / (2 * h)
+
+        vc = brentq(slope, *bracket, xtol=xtol)
+        held.value = 1.0
+        R1.x.array[:] = 1.0
+        control.solve_to(problem, vc * V0)
+        return {"V_over_V0": vc, "P": real_value(ctx.states["pressure"]), "dF_dR1": slope(vc)}

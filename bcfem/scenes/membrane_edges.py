@@ -82,8 +82,9 @@ def adhesive(ctx, params) -> Edge:
     R1 = ctx.real_state("debond_radius")
     R1.x.array[:] = 1.0
     free = fem.Constant(ctx.mesh, 0.0)
+    held_at = ctx.constant("debond_radius_held", 1.0)
     q = ufl.TestFunction(R1.function_space)
-    hold = (R1 - 1.0) * q * ufl.dx(domain=ctx.mesh)
+    hold = (R1 - held_at) * q * ufl.dx(domain=ctx.mesh)
 
     def row(lagrangian):
         # held at R0 before onset; the transversality condition dPi/dR1 = 0 after

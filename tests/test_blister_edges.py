@@ -1,0 +1,97 @@
+"""Moving blister edges: the adhesive edge (Griffith onset, propagation) and the sliding edge."""
+
+import math
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from bcfem.runner import branch_of
+from bcfem.scenes import blister_rigid
+
+FIG_3_12 = dict(material="gent", Jm=100.0, alpha=0.5, adhesion=2.5)  # dissertation Figs 3.12-3.14
+
+
+def adhesive(**kwargs):
+    params = blister_rigid.Params(**{"edge": "adhesive", "cells": 80, **kwargs})
+    return params, branch_of(blister_rigid.build(params, MPI.COMM_WORLD))
+
+
+@pytest.fixture(scope="module")
+def gent_adhesive():
+    return adhesive(**FIG_3_12, v_max=3.0)
+
+
+def test_huge_adhesion_never_debonds_and_is_the_clamped_branch():
+    _, stuck = adhesive(**{**FIG_3_12, "adhesion": 1e3}, v_max=4.0)
+    clamped = branch_of(blister_rigid.build(
+        blister_rigid.Params(**{**FIG_3_12, "adhesion": 1e3}, cells=80, v_max=4.0), MPI.COMM_WORLD))
+    assert stuck.events == []
+    assert all(row["R1_over_R0"] == 1.0 for row in stuck.rows)
+    assert all(row["dPi_dR1"] > 0 for row in stuck.rows)  # debonding would cost energy everywhere
+    assert [lp.kind for lp in stuck.limit_points] == [lp.kind for lp in clamped.limit_points]
+    for a, b in zip(stuck.limit_points, clamped.limit_points):
+        assert a.values["P"] == pytest.approx(b.values["P"], rel=1e-10)
+        assert a.values["V_over_V0"] == pytest.approx(b.values["V_over_V0"], rel=1e-9)
+    assert stuck.rows[-1]["P"] == pytest.approx(clamped.rows[-1]["P"], rel=1e-10)
+
+
+def test_onset_by_transversality_equals_onset_by_energy(gent_adhesive):
+    params, branch = gent_adhesive
+    (event,) = branch.events
+    assert event["name"] == "delamination onset"
+    by_energy = blister_rigid.onset_by_energy(params, MPI.COMM_WORLD, bracket=(1.0, 1.6))
+    assert event["V_over_V0"] == pytest.approx(by_energy["V_over_V0"], abs=1e-6)
+    assert event["P"] == pytest.approx(by_energy["P"], rel=1e-6)
+
+
+def test_the_edge_advances_after_onset_and_never_before(gent_adhesive):
+    _, branch = gent_adhesive
+    vc = branch.events[0]["V_over_V0"]
+    R1 = branch.column("R1_over_R0")
+    V = branch.column("V_over_V0")
+    assert np.all(R1[V <= vc] == 1.0)
+    assert np.all(np.diff(R1[V > vc]) > 0)
+    # after onset the transversality condition holds at every point
+    after = [row["dPi_dR1"] for row in branch.rows if row["V_over_V0"] > vc]
+    assert np.max(np.abs(after)) < 1e-8
+
+
+def test_self_similar_propagation_V_P3_is_constant(gent_adhesive):
+    """Eq. 3.88: after onset the blister grows self-similarly, V (dp R0/(mu t0))^3 = const."""
+    _, branch = gent_adhesive
+    vc = branch.events[0]["V_over_V0"]
+    c = np.array([row["V_over_V0"] * row["P"] ** 3 for row in branch.rows if row["V_over_V0"] > vc])
+    assert c.size > 3
+    assert np.ptp(c) / c.mean() < 1e-8
+    # and the free energy at fixed volume F = Pi + dp V is lower than the clamped one's
+    clamped = branch_of(blister_rigid.build(
+        blister_rigid.Params(**FIG_3_12, cells=80, v_max=3.0), MPI.COMM_WORLD))
+    last = branch.rows[-1]
+    F_prop = last["energy"] + last["P"] * last["V_over_V0"] * 4 / 3
+    F_clamped = clamped.rows[-1]["energy"] + clamped.rows[-1]["P"] * 4 + FIG_3_12["adhesion"]
+    assert F_prop < F_clamped
+
+
+@pytest.mark.convergence
+def test_onset_volume_converges():
+    vc = []
+    cells = [10, 20, 40, 80]
+    for n in cells:
+        _, branch = adhesive(**FIG_3_12, v_max=1.4, cells=n)
+        vc.append(branch.events[0]["V_over_V0"])
+    d = np.abs(np.diff(vc))
+    rates = np.log2(d[:-1] / d[1:])
+    assert rates[-1] == pytest.approx(4.0, abs=0.3), rates
+
+
+def test_sliding_edge_without_tension_is_a_right_angle():
+    """alpha = 0: the sliding edge carries no meridional force, so phi0 = pi/2 (eq. 3.61),
+    and the blister tends to a hemisphere (aspect z(0)/r1 -> 1) at large volume."""
+    params = blister_rigid.Params(material="neo-hookean", edge="sliding", alpha=0.0, cells=80, v_max=6.0)
+    branch = branch_of(blister_rigid.build(params, MPI.COMM_WORLD))
+    large = branch.column("V_over_V0") > 0.5  # small blisters have an unresolved edge layer at 80 cells
+    angles = branch.column("contact_angle_deg")[large]
+    assert np.max(np.abs(angles - 90.0)) < 0.05
+    ratio = branch.column("aspect") / branch.column("r1_over_R0")
+    assert abs(ratio[-1] - 1) < 3e-3 and np.all(np.diff(ratio[1:]) > 0)
