@@ -95,6 +95,8 @@ class Problem:
             assign(x, self.states)
         else:
             self.restore(saved)
+            # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
+            self.snes.getKSP().getPC().reset()
         return ok
 
     def close(self) -> None:

@@ -31,7 +31,7 @@ from bcfem.params import ContinuationParams, require
 from bcfem.continuation import Switch
 from bcfem.scene import Scene
 from bcfem.scenes.membrane_edges import EDGES
-from bcfem.theory.membrane import simple_membrane_pressure
+from bcfem.theory.membrane import droplet_angle_from_volume, simple_membrane_pressure
 
 V0 = 4.0 * math.pi / 3.0  # reference volume 4/3 pi R0^3, with R0 = 1
 
@@ -234,15 +234,20 @@ def observables(ctx, terms):
 
 
 def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
-    """Set u to the simple-membrane cap of volume V/V0 (eqs. 3.11-3.12); return its pressure.
+    """Set u to a spherical cap of volume V/V0 on the unit base; return a pressure guess.
 
-    A flat membrane has no tension, so Newton cannot start there.
+    Material points are spread uniformly along the arc (a uniform meridian
+    stretch), which also covers caps steeper than a hemisphere. A flat
+    membrane has no tension, so Newton cannot start there.
     """
-    h = 8.0 / 3.0 * v_over_v0  # V/V0 = 3h/8 for z = h(1 - R^2)
-    c = h * h  # optimal c = 2 h^2 (3 - nu)/5 with nu = 1/2
-    ctx.u.interpolate(lambda x: np.vstack([c * x[0] * (1 - x[0]), h * (1 - x[0] ** 2)]))
-    # pressure: the simple-membrane stretching part plus the surface-tension part (T = alpha)
-    return simple_membrane_pressure(v_over_v0) * params.stiffness + 32.0 * params.alpha * v_over_v0 / 3.0
+    theta = droplet_angle_from_volume(v_over_v0)  # contact angle of the cap
+    rho = 1.0 / math.sin(theta)
+    ctx.u.interpolate(lambda x: np.vstack([rho * np.sin(theta * x[0]) - x[0],
+                                           rho * (np.cos(theta * x[0]) - math.cos(theta))]))
+    # the membrane part from the simple theory (capped: membrane pressures stay O(2 mu t0 / R0)),
+    # the surface-tension part from Laplace
+    membrane = min(float(simple_membrane_pressure(v_over_v0)), 2.0) * params.stiffness
+    return membrane + 2.0 * params.alpha * math.sin(theta)
 
 
 def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float = 1e-4,
