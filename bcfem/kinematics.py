@@ -7,10 +7,12 @@ The mid-surface point at reference radius :math:`R` moves to
 :math:`1/(\lambda_r\lambda_\theta)`. Gauss quadrature never samples R = 0, so the
 1/R in :math:`\lambda_\theta` is harmless.
 
-The reference radius may itself be an unknown (a debond radius R1): the mesh
-coordinate is then ξ and R = R1 ξ, so that d/dR = (1/R1) d/dξ and
-dA = 2π R1² ξ dξ, and the energy's derivative in R1 is the configurational
-(transversality) condition of the moving edge.
+The reference radius may depend on unknowns (a debond radius R1): the mesh
+coordinate is then ξ and a reference map gives R(ξ) and J = dR/dξ, so that
+d/dR = (1/J) d/dξ and dA = 2π R J dξ, and the energy's derivative in R1 is the
+configurational (transversality) condition of the moving edge. Maps:
+:func:`scaled` (R = R1 ξ) and :func:`two_zone` (a blister on ξ < 1 and a
+bonded annulus on 1 < ξ < 2 out to a fixed outer radius).
 
 This module is the one home of the axisymmetric weight: every term integrates a
 density per unit reference area through :meth:`AxisymmetricMembrane.integral`.
@@ -24,6 +26,22 @@ import ufl
 from mpi4py import MPI
 
 
+def scaled(radius):
+    """R = radius ξ on ξ in [0, 1]."""
+    return lambda xi: (radius * xi, radius)
+
+
+def two_zone(front, outer: float):
+    """R = front ξ on [0, 1] (the blister) and front + (outer - front)(ξ - 1) on [1, 2]."""
+
+    def reference(xi):
+        inner = ufl.lt(xi, 1.0)
+        return (ufl.conditional(inner, front * xi, front + (outer - front) * (xi - 1.0)),
+                ufl.conditional(inner, front, outer - front))
+
+    return reference
+
+
 class AxisymmetricMembrane:
     """Stretches, area and enclosed volume of an axisymmetric membrane.
 
@@ -31,38 +49,40 @@ class AxisymmetricMembrane:
         u: displacement (u_r, u_z) on an interval mesh in R.
         quadrature_degree: explicit degree (UFL would otherwise estimate 13-21
             for the rational energies).
-        radius: None for R = mesh coordinate, or a UFL scalar (a Constant or a
-            real-space state) R1 that scales the mesh coordinate, R = R1 ξ.
+        reference: None for R = mesh coordinate, or a map ξ -> (R, dR/dξ) of UFL
+            expressions (:func:`scaled`, :func:`two_zone`).
+        cell_tags: region markers for :meth:`integral` over a part of the surface.
     """
 
-    def __init__(self, u, quadrature_degree: int, radius=None):
+    def __init__(self, u, quadrature_degree: int, reference=None, cell_tags=None):
         mesh = u.function_space.mesh
         self.u = u
         xi = ufl.SpatialCoordinate(mesh)[0]
-        scale = 1 if radius is None else radius
-        self.scale = scale
-        self.R = scale * xi
+        self.reference = reference or (lambda x: (x, 1))
+        self.R, self.J = self.reference(xi)
         self.r = self.R + u[0]
         self.z = u[1]
-        self.dr = 1 + u[0].dx(0) / scale
-        self.dz = u[1].dx(0) / scale
+        self.dr = 1 + u[0].dx(0) / self.J
+        self.dz = u[1].dx(0) / self.J
         self.lam_r = ufl.sqrt(self.dr**2 + self.dz**2)
         self.lam_theta = self.r / self.R
         self.I1 = self.lam_r**2 + self.lam_theta**2 + 1 / (self.lam_r * self.lam_theta) ** 2
-        dx = ufl.Measure("dx", domain=mesh, metadata={"quadrature_degree": quadrature_degree})
-        self._dx = dx
+        self._dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags,
+                               metadata={"quadrature_degree": quadrature_degree})
         x = mesh.geometry.x[:, 0]
-        r_in = mesh.comm.allreduce(x.min() if x.size else float("inf"), op=MPI.MIN)
-        r_out = mesh.comm.allreduce(x.max() if x.size else -float("inf"), op=MPI.MAX)
-        #: reference area, the integral of dA (a UFL expression when the radius is unknown)
-        self.reference_area = math.pi * (r_out**2 - r_in**2) * (1 if radius is None else radius**2)
+        xi_in = mesh.comm.allreduce(x.min() if x.size else float("inf"), op=MPI.MIN)
+        xi_out = mesh.comm.allreduce(x.max() if x.size else -float("inf"), op=MPI.MAX)
+        #: reference area, the integral of dA (a UFL expression when the map has unknowns)
+        self.reference_area = math.pi * (self.reference(xi_out)[0] ** 2 - self.reference(xi_in)[0] ** 2)
 
-    def integral(self, density):
-        """The form of ``density`` integrated over the reference surface, dA = 2 pi R dR.
+    def integral(self, density, region: int | None = None):
+        """The form of ``density`` integrated over the reference surface, dA = 2 pi R dR
+        (over the cells tagged ``region`` only, if given).
 
         The axisymmetric weight is applied here and nowhere else.
         """
-        return density * 2 * ufl.pi * self.R * self.scale * self._dx
+        dx = self._dx if region is None else self._dx(region)
+        return density * 2 * ufl.pi * self.R * self.J * dx
 
     @property
     def area_stretch(self):

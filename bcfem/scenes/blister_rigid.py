@@ -136,7 +136,7 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     u = fem.Function(V, name="displacement")
     ctx = Context(u)
     edge = EDGES[params.edge](ctx, params)
-    ctx.kin = AxisymmetricMembrane(u, quadrature_degree=2 * params.degree + 2, radius=edge.radius)
+    ctx.kin = AxisymmetricMembrane(u, quadrature_degree=2 * params.degree + 2, reference=edge.reference)
     terms = [MembraneStrain(params.material_model())]
     if params.alpha > 0:
         terms.append(SurfaceTension(params.alpha))

@@ -24,6 +24,7 @@ import ufl
 from dolfinx import fem, mesh
 
 from bcfem.energies import WettedSubstrate
+from bcfem.kinematics import scaled
 
 
 @dataclass
@@ -33,7 +34,7 @@ class Edge:
     name: str
     bcs: list
     terms: list = field(default_factory=list)
-    radius: object = None  # UFL reference radius for the kinematics (None: R0 = 1)
+    reference: object = None  # reference map of the kinematics (None: R = ξ)
     rows: dict = field(default_factory=dict)  # state -> callable(lagrangian) -> residual form
     free: fem.Constant | None = None  # 1 once a moving edge is released
 
@@ -91,7 +92,7 @@ def adhesive(ctx, params) -> Edge:
         return free * ufl.derivative(lagrangian, R1, q) + (1 - free) * hold
 
     return Edge("adhesive", [_fixed_edge_bc(V), _axis_bc(V)], terms=[WettedSubstrate(params.adhesion)],
-                radius=R1, rows={"debond_radius": row}, free=free)
+                reference=scaled(R1), rows={"debond_radius": row}, free=free)
 
 
 EDGES = {"clamped": clamped, "sliding": sliding, "adhesive": adhesive}
