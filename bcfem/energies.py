@@ -47,17 +47,19 @@ class SurfaceTension:
     Attributes:
         gamma: surface energy density [N/m], >= 0.
         name: name of the run-time constant.
+        region: cell tag of the wetted part of the membrane (None: all of it).
     """
 
     gamma: float
     name: str = "gamma_l"
+    region: int | None = None
 
     def __post_init__(self):
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
 
     def energy(self, ctx):
         gamma = ctx.constant(self.name, self.gamma)
-        return ctx.kin.integral(gamma * ctx.kin.area_stretch)
+        return ctx.kin.integral(gamma * ctx.kin.area_stretch, self.region)
 
 
 @dataclass(frozen=True)
@@ -94,14 +96,19 @@ class WettedSubstrate:
     for a sliding edge, :math:`\gamma_{ls} - \Delta\gamma` for an adhesive one
     (eq. 3.42).
 
+    With ``region`` the projected area is that of the tagged part only (its
+    outer edge radius squared times π, when the part starts on the axis).
+
     Attributes:
         gamma: energy per wetted area [N/m] (any sign).
         name: name of the run-time constant.
+        region: cell tag of the part of the membrane that covers the area (None: all).
     """
 
     gamma: float
     name: str = "gamma_wet"
+    region: int | None = None
 
     def energy(self, ctx):
         gamma = ctx.constant(self.name, self.gamma)
-        return ctx.kin.integral(gamma * ctx.kin.lam_theta * ctx.kin.dr)
+        return ctx.kin.integral(gamma * ctx.kin.lam_theta * ctx.kin.dr, self.region)

@@ -30,7 +30,7 @@ from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
 from bcfem.params import ContinuationParams, require
 from bcfem.continuation import Switch
 from bcfem.scene import Scene
-from bcfem.scenes.membrane_edges import EDGES
+from bcfem.scenes.membrane_edges import EDGES, domain
 from bcfem.theory.membrane import droplet_angle_from_volume, simple_membrane_pressure
 
 V0 = 4.0 * math.pi / 3.0  # reference volume 4/3 pi R0^3, with R0 = 1
@@ -64,7 +64,9 @@ HELP = {
     "edge": "edge condition: clamped, sliding (free radial slip, Young angle phi-Y), "
             "adhesive (delamination when it lowers the free energy)",
     "phi_Y_deg": "Young angle of the liquid on the substrate [deg], in (0, 180) (sliding edge)",
-    "adhesion": "(gamma_ls - dgamma)/(mu_f t0), cost of debonding per area (adhesive edge)",
+    "adhesion": "(gamma_ls - dgamma)/(mu_f t0), cost of debonding per area (adhesive, slippery)",
+    "outer_radius": "outer material radius n of the film, in R0, > 1 (slippery edge)",
+    "far_field": "(gamma_s - dgamma)/(mu_f t0) = N_r at the outer radius (slippery edge)",
 }
 COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "R1_over_R0", "r1_over_R0", "s"]
 
@@ -97,6 +99,8 @@ class Params:
     edge: str = "clamped"
     phi_Y_deg: float = 135.0
     adhesion: float = 2.5
+    outer_radius: float = 4.0
+    far_field: float = 0.0
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
 
     CHOICES = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
@@ -115,6 +119,8 @@ class Params:
         require(self.edge in EDGES, f"edge must be one of {sorted(EDGES)} (got {self.edge!r})")
         require(0 < self.phi_Y_deg < 180, f"phi-Y-deg must be in (0, 180) (got {self.phi_Y_deg})")
         require(math.isfinite(self.adhesion), f"adhesion must be finite (got {self.adhesion})")
+        require(1 < self.outer_radius < 1e3, f"outer-radius must be in (1, 1000) (got {self.outer_radius})")
+        require(math.isfinite(self.far_field), f"far-field must be finite (got {self.far_field})")
 
     def material_model(self):
         if self.material == "gent":
@@ -131,15 +137,16 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
         extra_terms: energy terms of a research script, added to the free
             energy (and to the reported energy) like the built-in ones.
     """
-    msh = mesh.create_interval(comm, params.cells, [0.0, 1.0])
+    msh, cell_tags = domain(params, comm)
     V = fem.functionspace(msh, ("Lagrange", params.degree, (2,)))
     u = fem.Function(V, name="displacement")
     ctx = Context(u)
     edge = EDGES[params.edge](ctx, params)
-    ctx.kin = AxisymmetricMembrane(u, quadrature_degree=2 * params.degree + 2, reference=edge.reference)
+    ctx.kin = AxisymmetricMembrane(u, quadrature_degree=2 * params.degree + 2, reference=edge.reference,
+                                   cell_tags=cell_tags)
     terms = [MembraneStrain(params.material_model())]
     if params.alpha > 0:
-        terms.append(SurfaceTension(params.alpha))
+        terms.append(SurfaceTension(params.alpha, region=edge.liquid_region))
     terms.append(PressureVolume())
     terms.extend(edge.terms)
     terms.extend(extra_terms)
@@ -205,7 +212,8 @@ def observables(ctx, terms):
     volume = fem.form(kin.integral(kin.volume_density))
     energy = fem.form(sum(t.energy(ctx) for t in terms))
     apex = PointEvaluator(ctx.mesh, [0.0]).expression(u[1])
-    edge_slope = PointEvaluator(ctx.mesh, [1.0]).expression(ufl.as_vector([kin.dr, kin.dz]))
+    # just inside the blister zone: with the slippery edge the slope jumps at the front
+    edge_slope = PointEvaluator(ctx.mesh, [1.0 - 1e-10]).expression(ufl.as_vector([kin.dr, kin.dz]))
     pressure = ctx.real_state("pressure")
     edge_radius = PointEvaluator(ctx.mesh, [1.0]).expression(kin.r)
     release = None
@@ -242,8 +250,11 @@ def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
     """
     theta = droplet_angle_from_volume(v_over_v0)  # contact angle of the cap
     rho = 1.0 / math.sin(theta)
-    ctx.u.interpolate(lambda x: np.vstack([rho * np.sin(theta * x[0]) - x[0],
-                                           rho * (np.cos(theta * x[0]) - math.cos(theta))]))
+    def cap(x):
+        xi = np.minimum(x[0], 1.0)  # beyond the front (slippery edge) the film stays flat
+        return np.vstack([rho * np.sin(theta * xi) - xi, rho * (np.cos(theta * xi) - math.cos(theta))])
+
+    ctx.u.interpolate(cap)
     # the membrane part from the simple theory (capped: membrane pressures stay O(2 mu t0 / R0)),
     # the surface-tension part from Laplace
     membrane = min(float(simple_membrane_pressure(v_over_v0)), 2.0) * params.stiffness

@@ -12,6 +12,12 @@ and Griffith-type edge conditions of eqs. 3.59-3.64 are then the natural
   u = 0 at R1 (the bonded film is unstretched, r1 = R1); debonding costs
   (γ_ls - Δγ) per area. Its row holds R1 until the configurational force
   ∂Π/∂R1 turns negative (onset, a Switch), then is ∂Π/∂R1 = 0.
+* slippery: the film beyond the front R1 stays on a wet substrate (z = 0)
+  but slides, out to the material radius n R0, and is strained too. The mesh
+  has two zones (ξ < 1: blister, ξ > 1: the bonded annulus, R from R1 to n).
+  Interface energies: (γ_ls - Δγ) π r1² under the liquid and
+  (Δγ - γ_s) π rn² under the film, whose variation gives N_r(nR0) = γ_s - Δγ
+  (eq. 3.68). The front moves as for the adhesive edge.
 """
 
 from __future__ import annotations
@@ -24,7 +30,7 @@ import ufl
 from dolfinx import fem, mesh
 
 from bcfem.energies import WettedSubstrate
-from bcfem.kinematics import scaled
+from bcfem.kinematics import scaled, two_zone
 
 
 @dataclass
@@ -35,6 +41,7 @@ class Edge:
     bcs: list
     terms: list = field(default_factory=list)
     reference: object = None  # reference map of the kinematics (None: R = ξ)
+    liquid_region: int | None = None  # cell tag of the liquid-wetted membrane (None: all)
     rows: dict = field(default_factory=dict)  # state -> callable(lagrangian) -> residual form
     free: fem.Constant | None = None  # 1 once a moving edge is released
 
@@ -78,8 +85,24 @@ def sliding(ctx, params) -> Edge:
     return Edge("sliding", [_lifted_edge_bc(V), _axis_bc(V)], terms=[WettedSubstrate(wet)])
 
 
-def adhesive(ctx, params) -> Edge:
-    V = ctx.u.function_space
+BLISTER, BONDED = 1, 2  # cell tags of the two zones of the slippery edge
+
+
+def domain(params, comm):
+    """The reference mesh in ξ: [0, 1], or [0, 2] with tagged zones for the slippery edge."""
+    if params.edge != "slippery":
+        return mesh.create_interval(comm, params.cells, [0.0, 1.0]), None
+    msh = mesh.create_interval(comm, 2 * params.cells, [0.0, 2.0])
+    tdim = msh.topology.dim
+    n = msh.topology.index_map(tdim).size_local
+    cells = np.arange(n, dtype=np.int32)
+    midpoints = mesh.compute_midpoints(msh, tdim, cells)[:, 0]
+    tags = np.where(midpoints < 1.0, BLISTER, BONDED).astype(np.int32)
+    return msh, mesh.meshtags(msh, tdim, cells, tags)
+
+
+def _front(ctx):
+    """The debond radius R1 with its held/free row (held at R0 = 1 until released)."""
     R1 = ctx.real_state("debond_radius")
     R1.x.array[:] = 1.0
     free = fem.Constant(ctx.mesh, 0.0)
@@ -88,11 +111,29 @@ def adhesive(ctx, params) -> Edge:
     hold = (R1 - held_at) * q * ufl.dx(domain=ctx.mesh)
 
     def row(lagrangian):
-        # held at R0 before onset; the transversality condition dPi/dR1 = 0 after
+        # held before onset; the transversality condition dPi/dR1 = 0 after
         return free * ufl.derivative(lagrangian, R1, q) + (1 - free) * hold
 
+    return R1, free, {"debond_radius": row}
+
+
+def slippery(ctx, params) -> Edge:
+    V = ctx.u.function_space
+    R1, free, rows = _front(ctx)
+    Vz, _ = V.sub(1).collapse()
+    flat = fem.locate_dofs_geometrical((V.sub(1), Vz), lambda x: x[0] >= 1.0 - 1e-12)
+    bcs = [fem.dirichletbc(fem.Function(Vz), flat, V.sub(1)), _axis_bc(V)]
+    terms = [WettedSubstrate(params.adhesion, region=BLISTER),
+             WettedSubstrate(-params.far_field, name="gamma_film")]
+    return Edge("slippery", bcs, terms=terms, reference=two_zone(R1, params.outer_radius),
+                rows=rows, free=free, liquid_region=BLISTER)
+
+
+def adhesive(ctx, params) -> Edge:
+    V = ctx.u.function_space
+    R1, free, rows = _front(ctx)
     return Edge("adhesive", [_fixed_edge_bc(V), _axis_bc(V)], terms=[WettedSubstrate(params.adhesion)],
-                reference=scaled(R1), rows={"debond_radius": row}, free=free)
+                reference=scaled(R1), rows=rows, free=free)
 
 
-EDGES = {"clamped": clamped, "sliding": sliding, "adhesive": adhesive}
+EDGES = {"clamped": clamped, "sliding": sliding, "adhesive": adhesive, "slippery": slippery}
