@@ -1,4 +1,4 @@
-"""Command line: ``bcfem run SCENE [--param value ...] [PETSc options]``.
+"""Command line: ``bcfem run|sweep|fit SCENE [--param value ...] [PETSc options]``.
 
 Scene options come from the scene's ``Params`` dataclass (``v_max`` ->
 ``--v-max``) with the help text in its ``HELP`` dict. Anything of the form
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import math
 import sys
 from pathlib import Path
@@ -66,6 +67,28 @@ def build_parser():
         _add_params(p, module.Params, module.HELP)
         p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
         p.add_argument("--quiet", action="store_true", help="no progress line")
+    from bcfem.scenes import STUDIES
+
+    sweep = sub.add_parser("sweep", help="solve a grid of parameter points over MPI ranks (resumable)")
+    sweeps = sweep.add_subparsers(dest="scene", required=True, metavar="SCENE", parser_class=_Parser)
+    fit = sub.add_parser("fit", help="recover parameters from measured quantities")
+    fits = fit.add_subparsers(dest="scene", required=True, metavar="SCENE", parser_class=_Parser)
+    for name, studies in STUDIES.items():
+        module = REGISTRY[name]
+        p = sweeps.add_parser(name, help=f"maps {studies.SWEEP['title']}", description=module.DESCRIPTION,
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
+        _add_params(p, module.Params, module.HELP)
+        p.add_argument("--grid", action="append", required=True, metavar="NAME=START:STOP:COUNT",
+                       help="a grid axis (repeat for each axis; two axes give contour maps)")
+        p.add_argument("--out", type=Path, default=Path("results") / f"{name}-sweep")
+        p.add_argument("--quiet", action="store_true")
+        p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,
+                            formatter_class=argparse.RawDescriptionHelpFormatter)
+        _add_params(p, module.Params, module.HELP)
+        for target, text in studies.FIT_TARGETS.items():
+            p.add_argument(f"--{target}", dest=f"target_{target}", type=_float, required=True, help=text)
+        p.add_argument("--out", type=Path, default=Path("results") / f"{name}-fit")
+        p.add_argument("--quiet", action="store_true")
     return parser
 
 
@@ -99,13 +122,17 @@ def main(argv: list[str] | None = None) -> int:
     try:
         params = module.Params(**values)
     except ValueError as err:
-        parser.exit(2, f"bcfem run {args.scene}: error: {err}\n" if MPI.COMM_WORLD.rank == 0 else "")
+        parser.exit(2, f"bcfem {args.command} {args.scene}: error: {err}\n" if MPI.COMM_WORLD.rank == 0 else "")
 
     from bcfem import log, options, runner
 
     comm = MPI.COMM_WORLD
     log.configure(comm, quiet=args.quiet)
     options.insert_command_line(petsc)
+    if args.command == "sweep":
+        return _sweep(parser, args, module, params, comm)
+    if args.command == "fit":
+        return _fit(parser, args, module, params, comm)
     from bcfem.continuation import ContinuationError
 
     scene = module.build(params, comm)
@@ -120,6 +147,52 @@ def main(argv: list[str] | None = None) -> int:
         print(f"wrote {out / 'branch.csv'}, {out / 'summary.json'}, "
               + ", ".join(str(out / n) for n in scene.plots) + f", {out / 'fields.bp'}")
     return 0
+
+
+def _sweep(parser, args, module, params, comm) -> int:
+    from bcfem import sweep
+    from bcfem.log import configure
+    from bcfem.scenes import STUDIES
+
+    studies = STUDIES[args.scene]
+    try:
+        axes = [sweep.parse_axis(text) for text in args.grid]
+        points = sweep.grid_points(params, axes)
+    except ValueError as err:
+        parser.exit(2, f"bcfem sweep {args.scene}: error: {err}\n" if comm.rank == 0 else "")
+    configure(comm, quiet=args.quiet)
+    rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm)
+    if len(axes) == 2:
+        sweep.contour_maps(rows, axes[0][0], axes[1][0], studies.SWEEP["maps"],
+                           f"{args.scene}: {studies.SWEEP['title']}", args.out / "maps.png", comm)
+    if comm.rank == 0:
+        failed = sum(r["status"] != "ok" for r in rows)
+        print(f"wrote {args.out / 'sweep.csv'} ({len(rows)} points, {failed} failed)"
+              + (f" and {args.out / 'maps.png'}" if len(axes) == 2 else ""))
+    return 0
+
+
+def _fit(parser, args, module, params, comm) -> int:
+    import time
+
+    from bcfem import io
+    from bcfem.scenes import STUDIES
+
+    studies = STUDIES[args.scene]
+    targets = {t: getattr(args, f"target_{t}") for t in studies.FIT_TARGETS}
+    t0 = time.perf_counter()
+    try:
+        result = studies.fit(**targets, params=params, comm=comm)
+    except ValueError as err:
+        parser.exit(2, f"bcfem fit {args.scene}: error: {err}\n" if comm.rank == 0 else "")
+    result = {"targets": targets, "parameters": dataclasses.asdict(params), **result,
+              "wall_time_s": time.perf_counter() - t0}
+    io.write_json(args.out / "fit.json", result, comm)
+    if comm.rank == 0:
+        print(json.dumps({k: result[k] for k in ("alpha", "adhesion", "alpha_uncertainty",
+                                                   "adhesion_uncertainty", "converged") if k in result}))
+        print(f"wrote {args.out / 'fit.json'}")
+    return 0 if result["converged"] else 1
 
 
 if __name__ == "__main__":

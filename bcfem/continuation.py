@@ -63,6 +63,9 @@ class Switch:
     name: str
     function: Callable[[dict], float]
     action: Callable[[], None]
+    #: a state that must grow after the switch (e.g. the debond radius: no healing);
+    #: the new tangent is turned to make it grow
+    grows: str | None = None
 
 
 @dataclass
@@ -151,6 +154,13 @@ class ArcLength:
         norm = self._norm(problem, tangent)
         return [t / norm for t in tangent]
 
+    def _oriented(self, problem, tangent, switch) -> list[np.ndarray]:
+        """Turn ``tangent`` so that the switch's growing state grows."""
+        if switch.grows is None:
+            return tangent
+        component = float(tangent[problem.names.index(switch.grows)][0])
+        return [-t for t in tangent] if component < 0 else tangent
+
     def _solve_at(self, problem, base, tangent, sigma) -> bool:
         anchor = [b + sigma * t for b, t in zip(base, tangent)]
         self._set_hyperplane(problem, tangent, anchor)
@@ -224,6 +234,17 @@ class ArcLength:
         ds = p.ds
         il = self._index(problem)[1]
         pending = list(switches)
+        for sw in [sw for sw in pending if sw.function(values) >= 0]:
+            # already past the switch at the start: change the model there
+            pending.remove(sw)
+            branch.events.append({"name": sw.name, **values})
+            sw.action()
+            if not problem.solve():
+                raise ContinuationError(f"no converged start after '{sw.name}' (SNES reason {problem.reason})")
+            base, values = problem.save(), {**observe(), "s": s}
+            tangent = self._oriented(problem, self._tangent(problem), sw)
+            branch.rows[-1] = values
+            progress(f"event: {sw.name} at the start")
         for step in range(1, p.max_steps + 1):
             while True:
                 if self._solve_at(problem, base, tangent, ds):
@@ -284,7 +305,7 @@ class ArcLength:
                 if not problem.solve():
                     raise ContinuationError(f"no converged state after '{fired.name}' "
                                             f"(SNES reason {problem.reason})")
-                new_tangent = self._tangent(problem)
+                new_tangent = self._oriented(problem, self._tangent(problem), fired)
                 progress(f"event: {fired.name} at s={s + ds:.6g}")
             branch.rows.append(new_values)
             if on_accept:

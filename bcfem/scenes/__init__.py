@@ -1,5 +1,7 @@
-"""The scene registry: name -> module with ``Params``, ``build`` and ``report``."""
+"""The scene registry: name -> module with ``Params``, ``build`` and the CLI texts,
+and name -> module of its studies (``SWEEP``, ``FIT_TARGETS``, ``fit``)."""
 
-from bcfem.scenes import blister_rigid
+from bcfem.scenes import blister_rigid, blister_studies
 
 REGISTRY = {"blister-rigid": blister_rigid}
+STUDIES = {"blister-rigid": blister_studies}

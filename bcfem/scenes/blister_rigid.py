@@ -67,6 +67,7 @@ HELP = {
     "adhesion": "(gamma_ls - dgamma)/(mu_f t0), cost of debonding per area (adhesive, slippery)",
     "outer_radius": "outer material radius n of the film, in R0, > 1 (slippery edge)",
     "far_field": "(gamma_s - dgamma)/(mu_f t0) = N_r at the outer radius (slippery edge)",
+    "stop_radius": "also end the branch when the debond radius R1/R0 reaches this, > 1",
 }
 COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "R1_over_R0", "r1_over_R0", "s"]
 
@@ -101,6 +102,7 @@ class Params:
     adhesion: float = 2.5
     outer_radius: float = 4.0
     far_field: float = 0.0
+    stop_radius: float = math.inf
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
 
     CHOICES = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
@@ -121,6 +123,7 @@ class Params:
         require(math.isfinite(self.adhesion), f"adhesion must be finite (got {self.adhesion})")
         require(1 < self.outer_radius < 1e3, f"outer-radius must be in (1, 1000) (got {self.outer_radius})")
         require(math.isfinite(self.far_field), f"far-field must be finite (got {self.far_field})")
+        require(self.stop_radius > 1, f"stop-radius must be > 1 (got {self.stop_radius})")
 
     def material_model(self):
         if self.material == "gent":
@@ -155,14 +158,15 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     if edge.free is not None:
         # Griffith, no healing: the edge moves once the energy release rate -dPi/dR1 turns positive
         switches.append(Switch("delamination onset", lambda values: -values["dPi_dR1"],
-                               lambda: setattr(edge.free, "value", 1.0)))
+                               lambda: setattr(edge.free, "value", 1.0), grows="debond_radius"))
 
     def start(fraction: float = 1.0) -> float:
         return cap_guess(ctx, params, fraction * params.v_start)
 
     return Scene(name="blister-rigid", ctx=ctx, terms=terms, bcs=edge.bcs, load="pressure",
                  start=start, observe=observe,
-                 end=lambda values: values["V_over_V0"] - params.v_max,
+                 end=lambda values: max(values["V_over_V0"] - params.v_max,
+                                        values["R1_over_R0"] - params.stop_radius),
                  progress_keys=("V_over_V0", "P", "aspect"), fields=[u],
                  continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
@@ -259,54 +263,3 @@ def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
     # the surface-tension part from Laplace
     membrane = min(float(simple_membrane_pressure(v_over_v0)), 2.0) * params.stiffness
     return membrane + 2.0 * params.alpha * math.sin(theta)
-
-
-def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float = 1e-4,
-                    xtol: float = 1e-12) -> dict:
-    """Delamination onset by comparing energies at fixed volume (the dissertation's method).
-
-    At fixed V the stable state minimises the Helmholtz free energy
-    F = U + gamma_l A + (gamma_ls - dgamma) pi r1^2 (= Pi + dp V). The clamped
-    blister starts to propagate at the volume where moving the edge stops
-    costing energy: F(V, 1 + h) = F(V, 1 - h), compared by solving the blister
-    with the debond radius held at 1 +- h. Independent of the transversality
-    row dPi/dR1 that the continuation uses.
-
-    Args:
-        params: an adhesive-edge parameter set.
-        bracket: (V/V0 below, V/V0 above) the onset.
-        h: the virtual edge advance.
-
-    Returns:
-        {"V_over_V0": Vc/V0, "P": pressure at onset, "dF_dR1": residual slope}.
-    """
-    from scipy.optimize import brentq
-
-    from bcfem.continuation import VolumeControl
-    from bcfem.problem import Problem
-
-    require(params.edge == "adhesive", "onset_by_energy needs edge='adhesive'")
-    scene = build(params, comm)
-    ctx = scene.ctx
-    held = ctx.constant("debond_radius_held")
-    R1 = ctx.states["debond_radius"]
-    scene.start()
-    with Problem(ctx, scene.terms, scene.bcs, scene.prefix, scene.petsc_options, rows=scene.rows,
-                 energy_scale=scene.load_scale) as problem:
-        control = VolumeControl(ctx)
-        energy = fem.form(sum(t.energy(ctx) for t in scene.terms))
-
-        def helmholtz(v, radius):
-            held.value = radius
-            R1.x.array[:] = radius
-            control.solve_to(problem, v * V0)
-            return global_sum(energy) / math.pi  # the multiplier term vanishes at V = V-hat
-
-        def slope(v):
-            return (helmholtz(v, 1 + h) - helmholtz(v, 1 - h)) / (2 * h)
-
-        vc = brentq(slope, *bracket, xtol=xtol)
-        held.value = 1.0
-        R1.x.array[:] = 1.0
-        control.solve_to(problem, vc * V0)
-        return {"V_over_V0": vc, "P": real_value(ctx.states["pressure"]), "dF_dR1": slope(vc)}

@@ -1,0 +1,133 @@
+"""Parameter sweeps: independent points spread over MPI ranks, resumable, one CSV.
+
+Each rank solves its share of the points on its own communicator
+(``comm.Split`` by rank, so every point is a serial solve and the map does not
+depend on the number of ranks). Every finished point is written at once to
+``points/<key>.json`` (atomically), so a rerun skips it; a failed point is
+recorded with its reason, never dropped. Rank 0 then gathers ``sweep.csv``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import json
+import logging
+import traceback
+from pathlib import Path
+
+import numpy as np
+from mpi4py import MPI
+
+from bcfem import io
+from bcfem.log import logger
+
+
+def parse_axis(text: str) -> tuple[str, np.ndarray]:
+    """``name=start:stop:count`` (inclusive, linear) or ``name=v1,v2,...``."""
+    if "=" not in text:
+        raise ValueError(f"a grid axis is name=start:stop:count or name=v1,v2,... (got {text!r})")
+    name, spec = text.split("=", 1)
+    name = name.strip().replace("-", "_")
+    if ":" in spec:
+        parts = spec.split(":")
+        if len(parts) != 3:
+            raise ValueError(f"grid {name}: need start:stop:count (got {spec!r})")
+        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+        if count < 1:
+            raise ValueError(f"grid {name}: count must be >= 1 (got {count})")
+        return name, np.linspace(start, stop, count)
+    return name, np.array([float(v) for v in spec.split(",")])
+
+
+def point_key(values: dict) -> str:
+    return "_".join(f"{k}={v:.12g}" for k, v in sorted(values.items()))
+
+
+def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
+    """Every combination of the axes, as validated parameter sets (validation happens here,
+    before any solve, so a bad grid fails at once)."""
+    names = [a[0] for a in axes]
+    fields = {f.name for f in dataclasses.fields(base)}
+    for name in names:
+        if name not in fields:
+            raise ValueError(f"grid parameter {name!r} is not a parameter of the scene")
+    points = []
+    for combo in itertools.product(*(a[1] for a in axes)):
+        values = dict(zip(names, (float(v) for v in combo)))
+        points.append((values, dataclasses.replace(base, **values)))
+    return points
+
+
+def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD) -> list[dict]:
+    """Solve ``points`` (from :func:`grid_points`) over the ranks of ``comm``; return all rows.
+
+    Args:
+        solve_point: ``solve_point(params, comm) -> dict`` of results for one point.
+    """
+    out = Path(out)
+    point_dir = out / "points"
+    if comm.rank == 0:
+        point_dir.mkdir(parents=True, exist_ok=True)
+    comm.barrier()
+    own = comm.Split(color=comm.rank, key=0)
+    done = skipped = 0
+    for index, (values, params) in enumerate(points):
+        if index % comm.size != comm.rank:
+            continue
+        path = point_dir / f"{point_key(values)}.json"
+        if path.exists():
+            skipped += 1
+            continue
+        level = logger.level
+        logger.setLevel(logging.WARNING)  # no per-step progress from inside a point
+        try:
+            row = {**values, "status": "ok", "reason": "", **solve_point(params, own)}
+        except Exception as error:  # recorded, never dropped
+            row = {**values, "status": "failed", "reason": f"{type(error).__name__}: {error}"}
+            logger.debug(traceback.format_exc())
+        finally:
+            logger.setLevel(level)
+        io.write_json(path, row, own)
+        done += 1
+        logger.info(f"sweep: point {index + 1}/{len(points)} {point_key(values)}: {row['status']}")
+    own.Free()
+    total_done = comm.allreduce(done)
+    total_skipped = comm.allreduce(skipped)
+    comm.barrier()
+    rows = []
+    if comm.rank == 0:
+        for values, _ in points:
+            rows.append(json.loads((point_dir / f"{point_key(values)}.json").read_text()))
+        columns = sorted({k for r in rows for k in r}, key=lambda k: (k in ("status", "reason"), k))
+        io.write_csv(out / "sweep.csv", rows, comm, columns)
+    logger.info(f"sweep: {total_done} points solved, {total_skipped} reused, "
+                f"{sum(r['status'] != 'ok' for r in rows)} failed -> {out / 'sweep.csv'}")
+    return comm.bcast(rows, root=0)
+
+
+def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str, path, comm=MPI.COMM_WORLD):
+    """One filled contour per (column, label) over the (x, y) grid; failed points are blank."""
+    if comm.rank != 0:
+        return
+    from bcfem.plots import pyplot
+
+    plt = pyplot()
+    xs = sorted({r[x] for r in rows})
+    ys = sorted({r[y] for r in rows})
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.6))
+    for ax, (column, label) in zip(np.atleast_1d(axes), panels):
+        Z = np.full((len(ys), len(xs)), np.nan)
+        for r in rows:
+            value = r.get(column)
+            if r["status"] == "ok" and value is not None:
+                Z[ys.index(r[y]), xs.index(r[x])] = value
+        cs = ax.contourf(xs, ys, Z, levels=14, cmap="viridis")
+        ax.contour(xs, ys, Z, levels=cs.levels, colors="k", linewidths=0.3)
+        fig.colorbar(cs, ax=ax)
+        ax.set_title(label, fontsize=9)
+        ax.set_xlabel(x)
+        ax.set_ylabel(y)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    io.save_figure(fig, path, comm)
