@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import ufl
+from mpi4py import MPI
 from dolfinx import fem, mesh
 
 from bcfem.context import Context
@@ -263,3 +264,16 @@ def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
     # the surface-tension part from Laplace
     membrane = min(float(simple_membrane_pressure(v_over_v0)), 2.0) * params.stiffness
     return membrane + 2.0 * params.alpha * math.sin(theta)
+
+
+def profile(scene, samples: int = 201) -> dict:
+    """The deformed profile on every rank: reference R and current (r, z) at ``samples`` points
+    evenly spaced in the mesh coordinate (collective)."""
+    ctx = scene.ctx
+    kin = ctx.kin
+    x = ctx.mesh.geometry.x[:, 0]
+    lo = ctx.mesh.comm.allreduce(x.min() if x.size else np.inf, op=MPI.MIN)
+    hi = ctx.mesh.comm.allreduce(x.max() if x.size else -np.inf, op=MPI.MAX)
+    values = np.array([PointEvaluator(ctx.mesh, [xi]).expression(ufl.as_vector([kin.R, kin.r, kin.z]))()
+                       for xi in np.linspace(lo, hi, samples)])
+    return {"xi": np.linspace(lo, hi, samples), "R": values[:, 0], "r": values[:, 1], "z": values[:, 2]}
