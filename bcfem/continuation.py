@@ -184,17 +184,39 @@ class ArcLength:
         norm = self._norm(problem, direction)
         if norm == 0:
             raise ContinuationError("the start guess has zero displacement; give a shaped guess")
-        self._set_hyperplane(problem, [d / norm for d in direction], guess)
+        self._start_row = ([d / norm for d in direction], guess)
+        self.restart_row(problem)
         if not problem.solve():
             raise ContinuationError(
                 f"no converged start near the guess ({self.parameter} ~ {value:g}; "
                 f"SNES reason {problem.reason}); give a better initial guess")
 
+    def forward_sign(self, problem, observe, key: str, h: float = 1e-7) -> int:
+        """+1 if the start's tangent increases the observable ``key``, else -1.
+
+        The start row only fixes the guessed shape's amplitude, whose growth need
+        not mean a growing load (a cap steeper than a hemisphere that contracts).
+        """
+        here = problem.save()
+        before = observe()[key]
+        tangent = self._tangent(problem)
+        problem.restore([x + h * t for x, t in zip(here, tangent)])
+        after = observe()[key]
+        problem.restore(here)
+        return 1 if after >= before else -1
+
+    def restart_row(self, problem) -> None:
+        """Put back the row of :meth:`start`, so a second trace from the start point
+        orients its first tangent the same way as the first trace did."""
+        self._set_hyperplane(problem, *self._start_row)
+
     def trace(self, problem, observe, end, progress_keys=(), on_accept=None, guard=None,
-              switches=()) -> Branch:
+              switches=(), direction: int = 1) -> Branch:
         """Follow the branch; see :meth:`_trace`. A :class:`ContinuationError` carries
-        the converged part of the branch as ``error.branch``."""
+        the converged part of the branch as ``error.branch``. ``direction=-1`` starts
+        against the start's tangent (e.g. towards smaller volumes)."""
         self._partial = Branch()
+        self._direction = direction
         try:
             return self._trace(problem, observe, end, progress_keys, on_accept, guard, switches)
         except ContinuationError as error:
@@ -224,7 +246,7 @@ class ArcLength:
         s = 0.0
         values = observe()
         base = problem.save()
-        tangent = self._tangent(problem)
+        tangent = [self._direction * t for t in self._tangent(problem)]
         values["s"] = s
         branch.rows.append(values)
         if on_accept:
@@ -262,8 +284,6 @@ class ArcLength:
             its = max(problem.iterations, 1)
             new_values = observe()
             new_values["s"] = s + ds
-            if guard and (message := guard(new_values)):
-                raise ContinuationError(f"step {step}: {message}")
 
             accepted = problem.save()
             fired = next((sw for sw in pending if sw.function(values) < 0 <= sw.function(new_values)), None)
@@ -294,6 +314,9 @@ class ArcLength:
                 if on_accept:
                     on_accept(last)
                 break
+            # the end point is located before the guard looks: past it nothing counts
+            if guard and (message := guard(new_values)):
+                raise ContinuationError(f"step {step}: {message}")
             if np.sign(new_tangent[il][0]) != np.sign(tangent[il][0]):
                 branch.limit_points.append(self._locate_fold(
                     problem, base, tangent, ds, s, observe, float(new_tangent[il][0])))

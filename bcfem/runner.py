@@ -27,21 +27,52 @@ def versions() -> dict:
 
 
 def trace(scene, on_accept=None) -> tuple[Branch, Problem]:
-    """Build the arc-length problem of ``scene``, start it and follow the branch."""
+    """Build the arc-length problem of ``scene``, start it and follow the branch.
+
+    If the scene has a ``begin`` condition, the branch is first traced backwards
+    from the start to where ``begin`` turns positive (without switches, and
+    without field output), then forwards; the rows are joined in path order,
+    with negative arc lengths before the start.
+    """
     arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
     problem = Problem(scene.ctx, scene.terms, scene.bcs, scene.prefix,
                       scene.petsc_options, rows={**scene.rows, **arc.rows()},
                       energy_scale=scene.load_scale)
+    back = None
     try:
         start(arc, problem, scene)
+        forward = arc.forward_sign(problem, scene.observe, scene.grows) if scene.grows else 1
+        if scene.begin is not None:
+            origin = problem.save()
+            back = arc.trace(problem, scene.observe, scene.begin, scene.progress_keys,
+                             guard=scene.guard, direction=-forward)
+            problem.restore(origin)
+            arc.restart_row(problem)
         branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
-                           guard=scene.guard, switches=scene.switches)
+                           guard=scene.guard, switches=scene.switches, direction=forward)
     except ContinuationError as err:
         err.problem = problem
         if not hasattr(err, "branch"):
             err.branch = Branch()
         raise
+    if back is not None:
+        branch = _join(back, branch)
     return branch, problem
+
+
+def _join(back: Branch, forward: Branch) -> Branch:
+    """A backward and a forward branch from the same start, as one branch in path order."""
+    def flip(values):
+        return {**values, "s": -values["s"]}
+
+    for lp in back.limit_points:
+        lp.s, lp.values = -lp.s, flip(lp.values)
+    return Branch(rows=[flip(r) for r in reversed(back.rows[1:])] + forward.rows,
+                  limit_points=list(reversed(back.limit_points)) + forward.limit_points,
+                  events=forward.events,
+                  newton_iterations=back.newton_iterations + forward.newton_iterations,
+                  failed_steps=back.failed_steps + forward.failed_steps,
+                  wall_time_s=back.wall_time_s + forward.wall_time_s)
 
 
 def branch_of(scene) -> Branch:

@@ -25,6 +25,11 @@ class Scene:
             scene's starting level and returns the starting load.
         observe: collective; observables of the current state (normalised).
         end: the path ends where this turns positive.
+        begin: if given, the path is first traced backwards from the start until
+            this turns positive (for branches whose small-load end cannot be
+            reached from a simple guess).
+        grows: the observable that increases along the forward path (orients the
+            first tangent).
         progress_keys: observables shown in the progress line.
         petsc_options: scene defaults for PETSc.
         fields: functions written to the VTX file.
@@ -46,6 +51,8 @@ class Scene:
     observe: Callable[[], dict]
     end: Callable[[dict], float]
     progress_keys: tuple[str, ...] = ()
+    begin: Callable[[dict], float] | None = None
+    grows: str | None = None
     petsc_options: dict = field(default_factory=dict)
     fields: list = field(default_factory=list)
     continuation: ContinuationParams = field(default_factory=ContinuationParams)

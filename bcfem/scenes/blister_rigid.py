@@ -32,7 +32,7 @@ from bcfem.params import ContinuationParams, require
 from bcfem.continuation import Switch
 from bcfem.scene import Scene
 from bcfem.scenes.membrane_edges import EDGES, domain
-from bcfem.theory.membrane import droplet_angle_from_volume, simple_membrane_pressure
+from bcfem.theory.membrane import droplet, droplet_angle_from_volume, simple_membrane_pressure
 
 V0 = 4.0 * math.pi / 3.0  # reference volume 4/3 pi R0^3, with R0 = 1
 
@@ -69,6 +69,8 @@ HELP = {
     "outer_radius": "outer material radius n of the film, in R0, > 1 (slippery edge)",
     "far_field": "(gamma_s - dgamma)/(mu_f t0) = N_r at the outer radius (slippery edge)",
     "stop_radius": "also end the branch when the debond radius R1/R0 reaches this, > 1",
+    "start_volume": "V/V0 where the path starts and is traced both ways; 0: v-start "
+                    "(1 for the sliding edge, whose small-volume end is wrapped)",
 }
 COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "R1_over_R0", "r1_over_R0", "s"]
 
@@ -104,6 +106,7 @@ class Params:
     outer_radius: float = 4.0
     far_field: float = 0.0
     stop_radius: float = math.inf
+    start_volume: float = 0.0
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
 
     CHOICES = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
@@ -125,6 +128,15 @@ class Params:
         require(1 < self.outer_radius < 1e3, f"outer-radius must be in (1, 1000) (got {self.outer_radius})")
         require(math.isfinite(self.far_field), f"far-field must be finite (got {self.far_field})")
         require(self.stop_radius > 1, f"stop-radius must be > 1 (got {self.stop_radius})")
+        require(self.start_volume == 0 or self.v_start <= self.start_volume < self.v_max,
+                f"start-volume must be 0 or in [v-start, v-max) (got {self.start_volume})")
+
+    @property
+    def start_at(self) -> float:
+        """V/V0 of the first converged point."""
+        if self.start_volume > 0:
+            return self.start_volume
+        return max(self.v_start, min(1.0, 0.5 * self.v_max)) if self.edge == "sliding" else self.v_start
 
     def material_model(self):
         if self.material == "gent":
@@ -162,12 +174,15 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
                                lambda: setattr(edge.free, "value", 1.0), grows="debond_radius"))
 
     def start(fraction: float = 1.0) -> float:
-        return cap_guess(ctx, params, fraction * params.v_start)
+        return cap_guess(ctx, params, fraction * params.start_at)
 
     return Scene(name="blister-rigid", ctx=ctx, terms=terms, bcs=edge.bcs, load="pressure",
                  start=start, observe=observe,
                  end=lambda values: max(values["V_over_V0"] - params.v_max,
                                         values["R1_over_R0"] - params.stop_radius),
+                 begin=(lambda values: params.v_start - values["V_over_V0"])
+                 if params.start_at > params.v_start else None,
+                 grows="V_over_V0",
                  progress_keys=("V_over_V0", "P", "aspect"), fields=[u],
                  continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
@@ -247,14 +262,23 @@ def observables(ctx, terms):
 
 
 def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
-    """Set u to a spherical cap of volume V/V0 on the unit base; return a pressure guess.
+    """Set u to a spherical cap of volume V/V0; return a pressure guess.
 
-    Material points are spread uniformly along the arc (a uniform meridian
-    stretch), which also covers caps steeper than a hemisphere. A flat
-    membrane has no tension, so Newton cannot start there.
+    The cap sits on the unit base, except for the sliding edge, whose base
+    radius follows from a contact angle between the membrane's 90 degrees and
+    Young's angle, weighted by stiffness and surface tension. Material points
+    are spread uniformly along the arc (a uniform meridian stretch), which also
+    covers caps steeper than a hemisphere. A flat membrane has no tension, so
+    Newton cannot start there.
     """
-    theta = droplet_angle_from_volume(v_over_v0)  # contact angle of the cap
-    rho = 1.0 / math.sin(theta)
+    if params.edge == "sliding":
+        weight = params.alpha / (params.alpha + params.stiffness)
+        theta = math.radians(90.0 + weight * (params.phi_Y_deg - 90.0))
+        base = (v_over_v0 / float(droplet(theta)[2])) ** (1.0 / 3.0)
+    else:
+        theta, base = droplet_angle_from_volume(v_over_v0), 1.0
+    rho = base / math.sin(theta)
+
     def cap(x):
         xi = np.minimum(x[0], 1.0)  # beyond the front (slippery edge) the film stays flat
         return np.vstack([rho * np.sin(theta * xi) - xi, rho * (np.cos(theta * xi) - math.cos(theta))])
@@ -263,7 +287,7 @@ def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
     # the membrane part from the simple theory (capped: membrane pressures stay O(2 mu t0 / R0)),
     # the surface-tension part from Laplace
     membrane = min(float(simple_membrane_pressure(v_over_v0)), 2.0) * params.stiffness
-    return membrane + 2.0 * params.alpha * math.sin(theta)
+    return membrane + 2.0 * params.alpha * math.sin(theta) / base
 
 
 def profile(scene, samples: int = 201) -> dict:
