@@ -95,3 +95,57 @@ def test_sliding_edge_without_tension_is_a_right_angle():
     assert np.max(np.abs(angles - 90.0)) < 0.05
     ratio = branch.column("aspect") / branch.column("r1_over_R0")
     assert abs(ratio[-1] - 1) < 3e-3 and np.all(np.diff(ratio[1:]) > 0)
+
+
+def sliding(**kwargs):
+    params = blister_rigid.Params(**{"material": "neo-hookean", "edge": "sliding", "cells": 80, **kwargs})
+    return branch_of(blister_rigid.build(params, MPI.COMM_WORLD))
+
+
+@pytest.mark.parametrize("phi_Y", [60.0, 135.0])
+def test_free_edges_recover_young_in_the_droplet_limit(phi_Y):
+    """mu_f t0 / gamma_l -> 0: the contact angle is Young's (eq. 3.73) for the sliding edge
+    at every volume, and for the adhesive edge once it moves; the cap has aspect
+    z(0)/r1 = (1 - cos t)/sin t."""
+    theta = math.radians(phi_Y)
+    cap_aspect = (1 - math.cos(theta)) / math.sin(theta)
+    slide = sliding(alpha=1.0, stiffness=1e-4, phi_Y_deg=phi_Y, v_start=0.1, v_max=3.0)
+    for row in slide.rows:
+        assert row["contact_angle_deg"] == pytest.approx(phi_Y, abs=0.05)
+        assert row["aspect"] / row["r1_over_R0"] == pytest.approx(cap_aspect, rel=1e-3)
+    _, adhere = adhesive(alpha=1.0, stiffness=1e-4, material="neo-hookean", adhesion=-math.cos(theta),
+                         v_start=0.05, v_max=4.0)
+    moving = [row for row in adhere.rows if row["R1_over_R0"] > 1.0]
+    assert len(moving) >= 3
+    for row in moving:
+        assert row["contact_angle_deg"] == pytest.approx(phi_Y, abs=0.05)
+
+
+def test_sliding_plateaus_between_the_membrane_and_the_droplet():
+    """At large V the sliding blister's angle and aspect reach plateaus: 90 deg and a
+    hemisphere without tension, Young's 135 deg and 1 + sqrt(2) (the cap aspect; the
+    dissertation prints 1 + sqrt(2)/2) with tension only; in between for alpha = 1."""
+    ends = {}
+    for alpha, stiffness in ((0.0, 1.0), (1.0, 1.0), (1.0, 1e-4)):
+        row = sliding(alpha=alpha, stiffness=stiffness, phi_Y_deg=135.0, v_max=6.0).rows[-1]
+        ends[(alpha, stiffness)] = (row["contact_angle_deg"], row["aspect"] / row["r1_over_R0"])
+    assert ends[(0.0, 1.0)][0] == pytest.approx(90.0, abs=0.05)
+    assert ends[(0.0, 1.0)][1] == pytest.approx(1.0, abs=3e-3)
+    assert ends[(1.0, 1e-4)][0] == pytest.approx(135.0, abs=0.05)
+    assert ends[(1.0, 1e-4)][1] == pytest.approx(1 + math.sqrt(2), rel=1e-3)
+    assert 90.0 < ends[(1.0, 1.0)][0] < 135.0
+    assert 1.0 < ends[(1.0, 1.0)][1] < 1 + math.sqrt(2)
+
+
+def test_elasto_capillary_wrapping_at_small_volume():
+    """Fig. 3.10: with surface tension the sliding membrane wraps the liquid at small V
+    (the edge is drawn in and the contact angle approaches 180 deg); without, it stays at 90."""
+    wrapped = sliding(alpha=1.0, v_start=0.05, v_max=1.0)
+    plain = sliding(alpha=0.0, v_start=0.05, v_max=1.0)
+
+    def at(branch, v):
+        return min(branch.rows, key=lambda row: abs(row["V_over_V0"] - v))
+
+    assert at(wrapped, 0.1)["contact_angle_deg"] > 150.0
+    assert at(wrapped, 0.1)["r1_over_R0"] < 0.6
+    assert at(plain, 0.5)["contact_angle_deg"] == pytest.approx(90.0, abs=0.05)
