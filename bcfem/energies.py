@@ -14,6 +14,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import ufl
+
 from bcfem.params import require
 
 
@@ -35,6 +37,18 @@ class MembraneStrain:
     def energy(self, ctx):
         kin = ctx.kin
         return kin.integral(self.thickness * self.material.strain_energy(kin.I1))
+
+    def tractions(self, ctx):
+        r"""Membrane tractions (force per current length), eq. 3.35:
+        :math:`N_r = (t_0/\lambda_\theta)\,\partial W/\partial\lambda_r`,
+        :math:`N_\theta = (t_0/\lambda_r)\,\partial W/\partial\lambda_\theta`."""
+        kin = ctx.kin
+        I1 = ufl.variable(kin.I1)
+        dW = ufl.diff(self.material.strain_energy(I1), I1)
+        lr, lt = kin.lam_r, kin.lam_theta
+        N_r = self.thickness / lt * dW * (2 * lr - 2 / (lr**3 * lt**2))
+        N_t = self.thickness / lr * dW * (2 * lt - 2 / (lr**2 * lt**3))
+        return N_r, N_t
 
 
 @dataclass(frozen=True)

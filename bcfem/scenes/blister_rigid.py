@@ -70,7 +70,8 @@ HELP = {
     "far_field": "(gamma_s - dgamma)/(mu_f t0) = N_r at the outer radius (slippery edge)",
     "stop_radius": "also end the branch when the debond radius R1/R0 reaches this, > 1",
     "start_volume": "V/V0 where the path starts and is traced both ways; 0: v-start "
-                    "(1 for the sliding edge, whose small-volume end is wrapped)",
+                    "(1 for the sliding edge, whose small-volume end is wrapped; "
+                    "0.3 for the slippery edge)",
 }
 COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "R1_over_R0", "r1_over_R0", "s"]
 
@@ -136,7 +137,10 @@ class Params:
         """V/V0 of the first converged point."""
         if self.start_volume > 0:
             return self.start_volume
-        return max(self.v_start, min(1.0, 0.5 * self.v_max)) if self.edge == "sliding" else self.v_start
+        # the sliding and slippery edges pull the membrane in at small volume; a plain
+        # cap guess there converges to a compressed state, not to the wrapped branch
+        above = {"sliding": 1.0, "slippery": 0.3}.get(self.edge)
+        return max(self.v_start, min(above, 0.5 * self.v_max)) if above else self.v_start
 
     def material_model(self):
         if self.material == "gent":
@@ -214,6 +218,10 @@ def guard_for(params: Params):
     (the membrane would pass through the rigid substrate)."""
 
     def guard(values):
+        if values["P"] < 0:
+            return (f"negative pressure (P = {values['P']:.6g} at V/V0 = {values['V_over_V0']:.6g}): the path "
+                    f"is on a compressed branch; start it at a larger volume with --start-volume "
+                    f"(e.g. 0.3 for the slippery edge, 1 for the sliding edge)")
         if values["V_over_V0"] <= 0:
             return (f"the blister volume is not positive (V/V0 = {values['V_over_V0']:.3g}, "
                     f"P = {values['P']:.6g}): the membrane would pass through the substrate")
@@ -242,7 +250,10 @@ def observables(ctx, terms):
         one = fem.Function(R1.function_space)
         one.x.array[:] = 1.0
         release = fem.form(ufl.derivative(sum(t.energy(ctx) for t in terms), R1, one))
-    I1 = cell_maximum(ctx.mesh, kin.I1 - 3, ctx.u.function_space.element.basix_element.degree)
+    degree = ctx.u.function_space.element.basix_element.degree
+    I1 = cell_maximum(ctx.mesh, kin.I1 - 3, degree)
+    _, hoop = terms[0].tractions(ctx)  # the membrane strain is the first term
+    hoop_compression = cell_maximum(ctx.mesh, -hoop, degree)
 
     def observe() -> dict:
         dr, dz = edge_slope()
@@ -253,6 +264,8 @@ def observables(ctx, terms):
             "contact_angle_deg": math.degrees(math.atan2(-dz, dr)),
             "energy": global_sum(energy) / math.pi,
             "I1_minus_3_max": I1(),
+            # N_theta < 0 somewhere: where wrinkling can start (Fig. 3.19)
+            "N_theta_min": -hoop_compression(),
             "R1_over_R0": real_value(ctx.states["debond_radius"]) if release else 1.0,
             "r1_over_R0": float(edge_radius()[0]),
             **({"dPi_dR1": global_sum(release) / math.pi} if release else {}),
