@@ -149,3 +149,15 @@ def test_elasto_capillary_wrapping_at_small_volume():
     assert at(wrapped, 0.1)["contact_angle_deg"] > 150.0
     assert at(wrapped, 0.1)["r1_over_R0"] < 0.6
     assert at(plain, 0.5)["contact_angle_deg"] == pytest.approx(90.0, abs=0.05)
+
+
+def test_slippery_edge_onset_and_hoop_compression():
+    """Slippery edge (Figs 3.18-3.20): the bonded film is dragged in, the hoop traction is
+    compressive near the front (where wrinkling can start), and the two onset methods agree."""
+    params, branch = adhesive(**{**FIG_3_12, "edge": "slippery"}, v_max=1.5)
+    (event,) = branch.events
+    assert event["r1_over_R0"] < 1.0  # the front material point has slid inwards
+    assert min(branch.column("N_theta_min")) < 0
+    by_energy = blister_studies.onset_by_energy(params, MPI.COMM_WORLD, bracket=(0.25, 0.5))
+    assert event["V_over_V0"] == pytest.approx(by_energy["V_over_V0"], abs=1e-6)
+    assert branch.rows[-1]["R1_over_R0"] > 1.0

@@ -197,19 +197,26 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
 
 
 def summarize(branch) -> dict:
-    """``delamination_onset``: where the edge started to move, or None.
+    """``delamination_onset``: where the edge started to move, or None; and
+    ``hoop_compression``: where the hoop traction first turns compressive, or None.
 
     At the onset the clamped and the propagated states are the same state, so
     their free energies agree; both are reported as a consistency check
     (the clamped one from the last held point, the propagated one from the
     first free point, which the continuation reaches by re-solving).
     """
+    compressed = [row for row in branch.rows if row["N_theta_min"] < 0]
+    hoop = {"hoop_compression": None if not compressed else {
+        "first_V_over_V0": compressed[0]["V_over_V0"],
+        "N_theta_min": min(row["N_theta_min"] for row in compressed),
+        "note": "N_theta < 0: the membrane may wrinkle there (not modelled)"}}
     onset = next((e for e in branch.events if e["name"] == "delamination onset"), None)
     if onset is None:
-        return {"delamination_onset": None}
+        return {"delamination_onset": None, **hoop}
     after = next(row for row in branch.rows if row["s"] >= onset["s"])
     return {"delamination_onset": {"V_over_V0": onset["V_over_V0"], "P": onset["P"],
-                                   "energy_clamped": onset["energy"], "energy_propagated": after["energy"]}}
+                                   "energy_clamped": onset["energy"], "energy_propagated": after["energy"]},
+            **hoop}
 
 
 def guard_for(params: Params):

@@ -39,7 +39,7 @@ def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float
     Returns:
         {"V_over_V0": Vc/V0, "P": pressure at onset, "dF_dR1": residual slope}.
     """
-    require(params.edge == "adhesive", "onset_by_energy needs edge='adhesive'")
+    require(params.edge in ("adhesive", "slippery"), "onset_by_energy needs a moving front (adhesive, slippery)")
     scene = build(params, comm)
     ctx = scene.ctx
     held = ctx.constant("debond_radius_held")
