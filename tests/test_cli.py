@@ -112,3 +112,23 @@ def test_help_states_units():
     assert res.returncode == 0
     for text in ("dp R0 / (mu_f t0)", "gamma_l / (mu_f t0)", "V0 = 4/3 pi R0^3", "z(0) / R0"):
         assert text in res.stdout
+
+
+@pytest.mark.parametrize("edge", ["adhesive", "sliding", "slippery"])
+def test_moving_edges_under_mpi_equal_serial(tmp_path, edge):
+    args = ["run", "blister-rigid", "--edge", edge, "--alpha", "0.5", "--adhesion", "2.5",
+            "--v-max", "2", "--cells", "40", "--quiet"]
+    runs = []
+    for ranks in (1, 2):
+        out = tmp_path / f"n{ranks}"
+        res = bcfem(*args, "--out", str(out), ranks=ranks)
+        assert res.returncode == 0, res.stderr
+        runs.append(read(out))
+    (rows1, s1), (rows2, s2) = runs
+    assert len(rows1) == len(rows2)
+    for key in ("V_over_V0", "P", "aspect", "R1_over_R0", "r1_over_R0"):
+        np.testing.assert_allclose([float(r[key]) for r in rows2], [float(r[key]) for r in rows1],
+                                   rtol=1e-8, atol=1e-10)
+    if edge != "sliding":
+        assert s2["delamination_onset"]["V_over_V0"] == pytest.approx(
+            s1["delamination_onset"]["V_over_V0"], rel=1e-8)
