@@ -7,7 +7,8 @@ dolfinx and petsc4py bindings of the wheel build.
 import dolfinx_solver  # noqa: F401  (must precede dolfinx / petsc4py)
 
 from bcfem.context import Context
-from bcfem.continuation import ArcLength, Branch, ContinuationError, LimitPoint, VolumeControl
+from bcfem.continuation import ArcLength, Branch, ContinuationError, LimitPoint, Switch
+from bcfem.volume_control import VolumeControl
 from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.kinematics import AxisymmetricMembrane
 from bcfem.materials import Gent, NeoHookean
@@ -31,6 +32,7 @@ __all__ = [
     "PressureVolume",
     "Problem",
     "SurfaceTension",
+    "Switch",
     "VolumeControl",
     "global_sum",
     "point_value",

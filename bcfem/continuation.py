@@ -33,7 +33,7 @@ from dolfinx import fem
 from scipy.optimize import brentq
 
 from bcfem.log import progress
-from bcfem.mpi import global_sum, real_value
+from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
 
 
@@ -370,48 +370,3 @@ class ArcLength:
         values = observe()
         values["s"] = s + sigma
         return LimitPoint(kind="max" if f0 > 0 else "min", s=s + sigma, values=values)
-
-
-class VolumeControl:
-    """Step a constraint target (``volume_target``) with the natural rows.
-
-    The problem must be built without replacement rows, so the pressure's row
-    is the volume constraint itself. A target is approached from the current
-    state's volume in sub-steps: a failed sub-step is halved, a converged one
-    lets the next grow, and nothing unconverged is ever kept.
-    """
-
-    def __init__(self, ctx, target: str = "volume_target", min_step: float = 1e-10):
-        self.target = ctx.constant(target)
-        self._volume = fem.form(ctx.kin.integral(ctx.kin.volume_density))
-        self.min_step = min_step
-
-    def volume(self) -> float:
-        return global_sum(self._volume)
-
-    def solve_to(self, problem, value: float) -> None:
-        current = self.volume()
-        step = value - current
-        while True:
-            trial = current + step
-            if (step > 0 and trial > value) or (step < 0 and trial < value):
-                trial = value
-            self.target.value = trial
-            if problem.solve():
-                current = trial
-                if trial == value:
-                    return
-                step *= 1.5
-            else:
-                step *= 0.5
-                if abs(step) < self.min_step * max(1.0, abs(value)):
-                    raise ContinuationError(
-                        f"volume control: no converged state beyond volume {current:.6g} towards "
-                        f"{value:.6g} (last SNES reason {problem.reason})")
-
-    def trace(self, problem, values, observe: Callable[[], dict]) -> list[dict]:
-        rows = []
-        for v in values:
-            self.solve_to(problem, v)
-            rows.append(observe())
-        return rows

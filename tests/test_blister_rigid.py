@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
-from bcfem.continuation import VolumeControl
+from bcfem.volume_control import VolumeControl
 from bcfem.problem import Problem
 from bcfem.runner import trace
 from bcfem.scenes import blister_rigid

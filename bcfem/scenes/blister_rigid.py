@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import ufl
 from mpi4py import MPI
-from dolfinx import fem, mesh
+from dolfinx import fem
 
 from bcfem.context import Context
 from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension

@@ -13,7 +13,8 @@ import math
 from dolfinx import fem
 from scipy.optimize import brentq, root
 
-from bcfem.continuation import ContinuationError, VolumeControl
+from bcfem.continuation import ContinuationError
+from bcfem.volume_control import VolumeControl
 from bcfem.mpi import global_sum, real_value
 from bcfem.params import require
 from bcfem.problem import Problem

@@ -1,0 +1,59 @@
+"""Volume control: step the volume constraint's target with the natural rows.
+
+The counterpart of arc-length continuation when the volume, not the pressure,
+is prescribed: the pressure stays the Lagrange multiplier of the constraint.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from dolfinx import fem
+
+from bcfem.continuation import ContinuationError
+from bcfem.mpi import global_sum
+
+
+class VolumeControl:
+    """Step a constraint target (``volume_target``) with the natural rows.
+
+    The problem must be built without replacement rows, so the pressure's row
+    is the volume constraint itself. A target is approached from the current
+    state's volume in sub-steps: a failed sub-step is halved, a converged one
+    lets the next grow, and nothing unconverged is ever kept.
+    """
+
+    def __init__(self, ctx, target: str = "volume_target", min_step: float = 1e-10):
+        self.target = ctx.constant(target)
+        self._volume = fem.form(ctx.kin.integral(ctx.kin.volume_density))
+        self.min_step = min_step
+
+    def volume(self) -> float:
+        return global_sum(self._volume)
+
+    def solve_to(self, problem, value: float) -> None:
+        current = self.volume()
+        step = value - current
+        while True:
+            trial = current + step
+            if (step > 0 and trial > value) or (step < 0 and trial < value):
+                trial = value
+            self.target.value = trial
+            if problem.solve():
+                current = trial
+                if trial == value:
+                    return
+                step *= 1.5
+            else:
+                step *= 0.5
+                if abs(step) < self.min_step * max(1.0, abs(value)):
+                    raise ContinuationError(
+                        f"volume control: no converged state beyond volume {current:.6g} towards "
+                        f"{value:.6g} (last SNES reason {problem.reason})")
+
+    def trace(self, problem, values, observe: Callable[[], dict]) -> list[dict]:
+        rows = []
+        for v in values:
+            self.solve_to(problem, v)
+            rows.append(observe())
+        return rows
