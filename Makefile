@@ -15,12 +15,17 @@ test: venv
 	$(BIN)/python -m pytest -q tests
 	PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q -m mpi tests
 
+DEMOS := $(basename $(notdir $(wildcard demos/*.py)))
+
+# error against run time: docs/benchmarks/<scene>.{csv,md,png}
 bench: venv
 	$(BIN)/python benchmarks/blister_rigid.py
+	$(BIN)/python benchmarks/blister_edges.py
+	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/newtonal_vs_bordered.py
 
+# the dissertation's figures, reproduced by the demos: docs/figures/<demo>/
 report: venv
-	$(BIN)/python demos/blister_theories.py
-	$(BIN)/python demos/blister_surface_tension.py
+	@for d in $(DEMOS); do echo "== $$d"; $(BIN)/python demos/$$d.py --quiet --out docs/figures/$$d || exit 1; done
 
 clean:
 	rm -rf results .pytest_cache

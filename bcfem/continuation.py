@@ -244,47 +244,25 @@ class ArcLength:
         t0 = time.perf_counter()
         branch = self._partial
         s = 0.0
-        values = observe()
+        values = {**observe(), "s": s}
         base = problem.save()
         tangent = [self._direction * t for t in self._tangent(problem)]
-        values["s"] = s
-        branch.rows.append(values)
-        if on_accept:
-            on_accept(values)
         if end(values) >= 0:
             raise ContinuationError("the branch starts beyond its end point")
+        pending = list(switches)
+        for switch in [sw for sw in pending if sw.function(values) >= 0]:
+            # already past the switch at the start: change the model there
+            pending.remove(switch)
+            branch.events.append({"name": switch.name, **values})
+            tangent = self._switch(problem, switch)
+            base, values = problem.save(), {**observe(), "s": s}
+        self._record(branch, values, on_accept)
         ds = p.ds
         il = self._index(problem)[1]
-        pending = list(switches)
-        for sw in [sw for sw in pending if sw.function(values) >= 0]:
-            # already past the switch at the start: change the model there
-            pending.remove(sw)
-            branch.events.append({"name": sw.name, **values})
-            sw.action()
-            if not problem.solve():
-                raise ContinuationError(f"no converged start after '{sw.name}' (SNES reason {problem.reason})")
-            base, values = problem.save(), {**observe(), "s": s}
-            tangent = self._oriented(problem, self._tangent(problem), sw)
-            branch.rows[-1] = values
-            progress(f"event: {sw.name} at the start")
         for step in range(1, p.max_steps + 1):
-            while True:
-                if self._solve_at(problem, base, tangent, ds):
-                    new_tangent = self._tangent(problem)
-                    break
-                branch.failed_steps += 1
-                ds *= 0.5
-                if ds < p.ds_min:
-                    problem.restore(base)
-                    raise ContinuationError(
-                        f"step {step}: Newton failed (SNES reason {problem.reason}) even at "
-                        f"ds < ds_min = {p.ds_min:g}; last converged point: "
-                        + ", ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
-            branch.newton_iterations += problem.iterations
+            ds, new_tangent = self._step(problem, base, tangent, ds, branch, step, values, progress_keys)
             its = max(problem.iterations, 1)
-            new_values = observe()
-            new_values["s"] = s + ds
-
+            new_values = {**observe(), "s": s + ds}
             accepted = problem.save()
             fired = next((sw for sw in pending if sw.function(values) < 0 <= sw.function(new_values)), None)
             if fired:
@@ -297,22 +275,18 @@ class ArcLength:
                     problem.restore(accepted)
                 else:
                     pending.remove(fired)
-                    ds, accepted, new_values = sigma, problem.save(), switch_values
-                    new_values["s"] = s + ds
+                    ds, accepted, new_values = sigma, problem.save(), {**switch_values, "s": s + sigma}
                     new_tangent = self._tangent(problem)
             if not fired and end(new_values) >= 0:
                 sigma = self._locate(problem, base, tangent, ds,
                                      lambda: end(observe()), end(values), end(new_values))
-                last = observe()
-                last["s"] = s + sigma
+                last = {**observe(), "s": s + sigma}
                 last_state, last_tangent = problem.save(), self._tangent(problem)
                 if np.sign(last_tangent[il][0]) != np.sign(tangent[il][0]):
                     branch.limit_points.append(self._locate_fold(
                         problem, base, tangent, sigma, s, observe, float(last_tangent[il][0])))
                     problem.restore(last_state)
-                branch.rows.append(last)
-                if on_accept:
-                    on_accept(last)
+                self._record(branch, last, on_accept)
                 break
             # the end point is located before the guard looks: past it nothing counts
             if guard and (message := guard(new_values)):
@@ -322,17 +296,10 @@ class ArcLength:
                     problem, base, tangent, ds, s, observe, float(new_tangent[il][0])))
                 problem.restore(accepted)
             if fired:
-                # change the model there and go on from the same point
+                # change the model at the switch and go on from the same point
                 branch.events.append({"name": fired.name, **new_values})
-                fired.action()
-                if not problem.solve():
-                    raise ContinuationError(f"no converged state after '{fired.name}' "
-                                            f"(SNES reason {problem.reason})")
-                new_tangent = self._oriented(problem, self._tangent(problem), fired)
-                progress(f"event: {fired.name} at s={s + ds:.6g}")
-            branch.rows.append(new_values)
-            if on_accept:
-                on_accept(new_values)
+                new_tangent = self._switch(problem, fired)
+            self._record(branch, new_values, on_accept)
             base, tangent, values, s = problem.save(), new_tangent, new_values, s + ds
             progress(f"step {step:4d}  s={s:.4f}  ds={ds:.3g}  its={problem.iterations}  "
                      + "  ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
@@ -343,6 +310,38 @@ class ArcLength:
             raise ContinuationError(f"max_steps = {p.max_steps} reached before the end point")
         branch.wall_time_s = time.perf_counter() - t0
         return branch
+
+    def _step(self, problem, base, tangent, ds, branch, step, values, progress_keys):
+        """Predictor-corrector from ``base``; a failed step is halved and retried.
+
+        Returns:
+            (the step taken, the tangent at the new point)
+        """
+        while not self._solve_at(problem, base, tangent, ds):
+            branch.failed_steps += 1
+            ds *= 0.5
+            if ds < self.params.ds_min:
+                problem.restore(base)
+                raise ContinuationError(
+                    f"step {step}: Newton failed (SNES reason {problem.reason}) even at "
+                    f"ds < ds_min = {self.params.ds_min:g}; last converged point: "
+                    + ", ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
+        branch.newton_iterations += problem.iterations
+        return ds, self._tangent(problem)
+
+    def _switch(self, problem, switch) -> list[np.ndarray]:
+        """Apply ``switch`` at the current state, converge the new model there, return its tangent."""
+        switch.action()
+        if not problem.solve():
+            raise ContinuationError(f"no converged state after '{switch.name}' (SNES reason {problem.reason})")
+        progress(f"event: {switch.name}")
+        return self._oriented(problem, self._tangent(problem), switch)
+
+    @staticmethod
+    def _record(branch, values, on_accept) -> None:
+        branch.rows.append(values)
+        if on_accept:
+            on_accept(values)
 
     def _locate(self, problem, base, tangent, ds, f_now, f0, f1) -> float:
         """Root in (0, ds) of ``f_now`` along the hyperplanes from ``base``; states end at the root."""
