@@ -13,7 +13,7 @@ demo: venv
 
 test: venv
 	$(BIN)/python -m pytest -q tests
-	PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q -m mpi tests
+	PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q -m "mpi and not serial" tests
 
 DEMOS := $(basename $(notdir $(wildcard demos/*.py)))
 

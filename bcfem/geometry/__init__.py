@@ -1,0 +1,1 @@
+"""Parametric gmsh geometries (built on rank 0, with named physical groups)."""

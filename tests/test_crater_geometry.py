@@ -1,0 +1,69 @@
+"""The parametric crater geometry: exact crater volume, named groups, clear errors."""
+
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, LAYER, OUTER, SPECIMEN, TOP, CraterGeometry, create_mesh
+
+pytestmark = pytest.mark.mpi
+
+
+def crater_volume(data) -> float:
+    """V = -int 2 pi r z n_z over the crater surface (n: out of the solid); the plate adds nothing."""
+    x = ufl.SpatialCoordinate(data.mesh)
+    n = ufl.FacetNormal(data.mesh)
+    ds = ufl.Measure("ds", domain=data.mesh, subdomain_data=data.facet_tags)
+    form = fem.form(-2 * math.pi * x[0] * x[1] * n[1] * ds(CRATER))
+    return data.mesh.comm.allreduce(fem.assemble_scalar(form), op=MPI.SUM)
+
+
+@pytest.mark.parametrize("alpha, layer", [(1.0, 0.0), (0.5, 0.0), (0.7, 0.3)])
+def test_crater_volume_is_exact_at_rest(alpha, layer):
+    geometry = CraterGeometry(alpha=alpha, layer_thickness=layer)
+    data = create_mesh(geometry, MPI.COMM_WORLD)
+    # second-order geometry: only the quadratic interpolation of the arc remains, ~1e-7
+    assert crater_volume(data) == pytest.approx(geometry.crater_volume, rel=2e-7)
+    if alpha == 1.0:
+        assert geometry.crater_volume == pytest.approx(2 * math.pi * 6.35**3 / 3, rel=1e-14)
+    found = set(MPI.COMM_WORLD.allreduce(set(data.facet_tags.values.tolist()), op=MPI.BOR))
+    assert {BOTTOM, CRATER, TOP, AXIS, OUTER} <= found
+    regions = set(MPI.COMM_WORLD.allreduce(set(data.cell_tags.values.tolist()), op=MPI.BOR))
+    assert regions == ({SPECIMEN, LAYER} if layer else {SPECIMEN})
+
+
+def test_volume_converges_with_the_mesh():
+    errors = [abs(crater_volume(create_mesh(CraterGeometry(size_crater=h, size_far=max(h, 0.5)),
+                                            MPI.COMM_WORLD)) / CraterGeometry().crater_volume - 1)
+              for h in (0.12, 0.06)]
+    assert errors[1] < errors[0] / 8  # O(h^4) for quadratic arcs; at least third order seen
+
+
+@pytest.mark.parametrize("kwargs, word", [
+    ({"alpha": 1.2}, "alpha"),
+    ({"alpha": 0.0}, "alpha"),
+    ({"crater_radius": 12.7}, "crater radius"),
+    ({"crater_radius": 13.0}, "crater radius"),
+    ({"layer_thickness": 3.2}, "layer thickness"),
+])
+def test_bad_geometry_is_refused_before_meshing(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        CraterGeometry(**kwargs)
+
+
+@pytest.mark.serial
+def test_geometry_cli_writes_mesh_and_preview(tmp_path):
+    out = tmp_path / "c.msh"
+    res = subprocess.run([sys.executable, "-m", "bcfem.geometry", "crater", "--alpha", "0.7", "-o", str(out)],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert out.stat().st_size > 1000 and out.with_suffix(".png").stat().st_size > 1000
+    res = subprocess.run([sys.executable, "-m", "bcfem.geometry", "crater", "--alpha", "1.5", "-o",
+                          str(tmp_path / "bad.msh")], capture_output=True, text=True, timeout=300)
+    assert res.returncode == 2 and "alpha" in res.stderr and not (tmp_path / "bad.msh").exists()
