@@ -46,6 +46,14 @@ class Context:
             self._states[name] = fem.Function(self.real_space, name=name)
         return self._states[name]
 
+    def field_state(self, name: str, degree: int = 1) -> fem.Function:
+        """A scalar Lagrange field unknown ``name`` (e.g. the mixed pressure of a
+        nearly incompressible solid), created on first request."""
+        if name not in self._states:
+            space = fem.functionspace(self.mesh, ("Lagrange", degree))
+            self._states[name] = fem.Function(space, name=name)
+        return self._states[name]
+
     def constant(self, name: str, value: float = 0.0) -> fem.Constant:
         """The run-time parameter ``name``; ``value`` is used only on creation."""
         if name not in self._constants:

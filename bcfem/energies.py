@@ -126,3 +126,25 @@ class WettedSubstrate:
     def energy(self, ctx):
         gamma = ctx.constant(self.name, self.gamma)
         return ctx.kin.integral(gamma * ctx.kin.lam_theta * ctx.kin.dr, self.region)
+
+
+@dataclass(frozen=True)
+class SolidStrain:
+    r"""Strain energy of a (nearly) incompressible solid with a mixed pressure,
+    :math:`\int W(F, p)\, dV` (Taylor-Hood: P2 displacement, P1 pressure).
+
+    Adds the field state ``solid_pressure`` (shared by every region's term).
+
+    Attributes:
+        material: e.g. ``NearlyIncompressibleNeoHookean``.
+        region: cell tag of the part made of this material (None: all).
+        pressure_degree: Lagrange degree of the pressure (1 for Taylor-Hood P2-P1).
+    """
+
+    material: object
+    region: int | None = None
+    pressure_degree: int = 1
+
+    def energy(self, ctx):
+        p = ctx.field_state("solid_pressure", self.pressure_degree)
+        return ctx.kin.integral(self.material.density(ctx.kin, p), self.region)

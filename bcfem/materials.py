@@ -65,3 +65,33 @@ class Gent:
 
 
 MATERIALS = {"neo-hookean": NeoHookean, "gent": Gent}
+
+
+@dataclass(frozen=True)
+class NearlyIncompressibleNeoHookean:
+    r"""Neo-Hookean solid with a mixed pressure, for Taylor-Hood u-p elements:
+
+    .. math:: W = \tfrac{\mu}{2}(I_1 - 3) - \mu \ln J + p\,(J - 1) - \frac{p^2}{2\kappa},
+
+    stationary in p where J - 1 = p/κ (so κ → ∞ is incompressible and the
+    same discretisation stays free of locking). The polynomial-plus-log form
+    stays finite for every iterate with J > 0 (an isochoric J^{-2/3} split
+    gives NaN at the first inverted element). Not a function of I1 alone, so
+    :meth:`density` takes the kinematics and the pressure field.
+
+    Attributes:
+        mu: shear modulus [Pa].
+        kappa: bulk modulus [Pa], kappa/mu in (0, 1e12].
+    """
+
+    mu: float = 1.0  # [Pa]
+    kappa: float = 1e6  # [Pa]
+    name = "neo-hookean-mixed"
+
+    def __post_init__(self):
+        _require(math.isfinite(self.mu) and self.mu > 0, f"mu must be > 0 (got {self.mu})")
+        _require(0 < self.kappa / self.mu <= 1e12, f"kappa/mu must be in (0, 1e12] (got {self.kappa / self.mu:g})")
+
+    def density(self, kin, p):
+        return (0.5 * self.mu * (kin.I1 - 3) - self.mu * ufl.ln(kin.J)
+                + p * (kin.J - 1) - p**2 / (2 * self.kappa))
