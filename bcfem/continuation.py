@@ -30,7 +30,6 @@ from typing import Callable
 import numpy as np
 import ufl
 from dolfinx import fem
-from scipy.optimize import brentq
 
 from bcfem.log import progress
 from bcfem.mpi import global_sum
@@ -345,6 +344,8 @@ class ArcLength:
 
     def _locate(self, problem, base, tangent, ds, f_now, f0, f1) -> float:
         """Root in (0, ds) of ``f_now`` along the hyperplanes from ``base``; states end at the root."""
+
+        from scipy.optimize import brentq  # lazily: scipy.optimize costs ~0.4 s to import
 
         def f(sigma):
             if sigma <= 0:

@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 
 from dolfinx import fem
-from scipy.optimize import brentq, root
 
 from bcfem.continuation import ContinuationError
 from bcfem.volume_control import VolumeControl
@@ -40,6 +39,8 @@ def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float
     Returns:
         {"V_over_V0": Vc/V0, "P": pressure at onset, "dF_dR1": residual slope}.
     """
+    from scipy.optimize import brentq  # lazily: scipy.optimize costs ~0.4 s to import
+
     require(params.edge in ("adhesive", "slippery"), "onset_by_energy needs a moving front (adhesive, slippery)")
     scene = build(params, comm)
     ctx = scene.ctx
@@ -109,6 +110,8 @@ def solve_fit(aspect: float, P1: float, params: Params, comm, guess, tol: float)
     evaluation is one traced branch."""
     require(aspect > 0, f"aspect must be > 0 (got {aspect})")
     require(P1 > 0, f"P1 must be > 0 (got {P1})")
+    from scipy.optimize import root
+
     evaluations = []
 
     def residual(x):

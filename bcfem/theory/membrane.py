@@ -27,8 +27,6 @@ import math
 from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import quad, solve_ivp
-from scipy.optimize import brentq
 
 NU = 0.5
 RITZ = 75 * (1 - NU) / (16 * (23 + 18 * NU - 3 * NU**2))  # = 0.075
@@ -51,6 +49,8 @@ def _hencky_rhs(rho, y):
 
 
 def _hencky_solution(s0: float, rtol: float = 1e-13):
+    from scipy.integrate import solve_ivp
+
     rho0 = 1e-6  # series start: s = s0 - rho^2/(8 s0^2)
     y0 = [s0 - rho0**2 / (8 * s0**2), -rho0 / (4 * s0**2)]
     return solve_ivp(_hencky_rhs, (rho0, 1.0), y0, method="DOP853", rtol=rtol, atol=1e-15,
@@ -60,6 +60,9 @@ def _hencky_solution(s0: float, rtol: float = 1e-13):
 @lru_cache(maxsize=None)
 def foppl_constants(nu: float = NU) -> tuple[float, float, float]:
     """(s0, I1, I3) of the exact Föppl-Hencky solution, to ~1e-12."""
+    from scipy.integrate import quad
+    from scipy.optimize import brentq
+
 
     def edge_condition(s0):
         sol = _hencky_solution(s0)
@@ -108,4 +111,6 @@ def droplet(theta):
 
 def droplet_angle_from_volume(v_over_v0: float) -> float:
     """Contact angle theta in (0, pi) of the cap with volume V/V0."""
+    from scipy.optimize import brentq
+
     return brentq(lambda t: float(droplet(t)[2]) - v_over_v0, 1e-9, math.pi - 1e-9, xtol=1e-15)
