@@ -67,3 +67,23 @@ def test_geometry_cli_writes_mesh_and_preview(tmp_path):
     res = subprocess.run([sys.executable, "-m", "bcfem.geometry", "crater", "--alpha", "1.5", "-o",
                           str(tmp_path / "bad.msh")], capture_output=True, text=True, timeout=300)
     assert res.returncode == 2 and "alpha" in res.stderr and not (tmp_path / "bad.msh").exists()
+
+
+@pytest.mark.parametrize("stretch_r, stretch_z", [(1.0, 1.0), (1.1, 0.8), (0.9, 1.05)])
+def test_current_cavity_volume_under_an_affine_map(stretch_r, stretch_z):
+    """Nanson's formula on the crater wall: an affine map scales the cavity by lr^2 lz."""
+    import numpy as np
+
+    from bcfem.cavity import cavity_volume_density
+    from bcfem.solid import AxisymmetricSolid
+
+    geometry = CraterGeometry(alpha=0.7)
+    data = create_mesh(geometry, MPI.COMM_WORLD)
+    V = fem.functionspace(data.mesh, ("Lagrange", 2, (2,)))
+    u = fem.Function(V)
+    u.interpolate(lambda x: np.vstack([(stretch_r - 1) * x[0], (stretch_z - 1) * x[1]]))
+    kin = AxisymmetricSolid(u, quadrature_degree=4)
+    ds = ufl.Measure("ds", domain=data.mesh, subdomain_data=data.facet_tags)
+    volume = data.mesh.comm.allreduce(fem.assemble_scalar(fem.form(
+        cavity_volume_density(kin, ufl.FacetNormal(data.mesh)) * ds(CRATER))), op=MPI.SUM)
+    assert volume == pytest.approx(geometry.crater_volume * stretch_r**2 * stretch_z, rel=2e-7)
