@@ -135,17 +135,17 @@ def main(argv: list[str] | None = None) -> int:
         return _fit(parser, args, module, params, comm)
     from bcfem.continuation import ContinuationError
 
-    scene = module.build(params, comm)
     try:
-        runner.run(scene, params, args.out, comm, columns=module.COLUMNS)
-    except ContinuationError as err:
+        if hasattr(module, "solve"):  # a staged scene that drives its own load path
+            runner.run_staged(module, params, args.out, comm)
+        else:
+            runner.run(module.build(params, comm), params, args.out, comm, columns=module.COLUMNS)
+    except (ContinuationError, RuntimeError) as err:
         if comm.rank == 0:
             print(f"bcfem run {args.scene}: solver failed: {err}", file=sys.stderr)
         return 1
     if comm.rank == 0:
-        out = args.out
-        print(f"wrote {out / 'branch.csv'}, {out / 'summary.json'}, "
-              + ", ".join(str(out / n) for n in scene.plots) + f", {out / 'fields.bp'}")
+        print(f"wrote {args.out / 'branch.csv'}, {args.out / 'summary.json'} and the plots in {args.out}")
     return 0
 
 

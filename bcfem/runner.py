@@ -160,3 +160,18 @@ def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dic
     logger.info(f"{scene.name}: {len(branch.rows)} points, {len(branch.limit_points)} limit points, "
                 f"{wall:.2f} s -> {out}")
     return summary
+
+
+def run_staged(module, params, out: Path, comm) -> dict:
+    """Run a scene that drives its own stages (``module.solve``) and write its results."""
+    out = Path(out)
+    if comm.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    rows, summary = module.solve(params, comm)
+    summary = {**summary, "versions": versions()}
+    io.write_csv(out / "branch.csv", rows, comm, module.COLUMNS)
+    io.write_json(out / "summary.json", summary, comm)
+    if comm.rank == 0 and hasattr(module, "plot"):
+        io.save_figure(module.plot(rows, summary), out / "cycle.png", comm)
+    logger.info(f"{module.__name__.rsplit('.', 1)[-1]}: {len(rows)} points, {summary['wall_time_s']:.2f} s -> {out}")
+    return summary
