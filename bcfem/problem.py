@@ -99,6 +99,12 @@ class Problem:
             self.snes.getKSP().getPC().reset()
         return ok
 
+    def set_bounds(self, lower, upper) -> None:
+        """Variable bounds for a variational-inequality SNES (e.g. ``vinewtonrsls``):
+        one function per state for each side (use +-1e20 where unbounded)."""
+        self._bounds = (self.vector_from(lower), self.vector_from(upper))
+        self.snes.setVariableBounds(*self._bounds)
+
     def close(self) -> None:
         """Destroy the PETSc objects now, in the same order on every rank.
 
@@ -108,6 +114,9 @@ class Problem:
         if self._tangent_ksp is not None:
             self._tangent_ksp.destroy()
             self._tangent_ksp = None
+        for vec in getattr(self, "_bounds", ()):
+            vec.destroy()
+        self._bounds = ()
         if self._nlp is not None:
             del self._nlp
             self._nlp = None

@@ -12,8 +12,10 @@ F = (1 - V1/V2) p_a A2 (eq. 7.3), F~ = F/(p_a A0) (eq. 7.13).
 
 Units: pressures in p_a (so μ/p_a = β), lengths in mm. The bottom face is held
 on the plate (u_z = 0, free to slide): ambient pressure holds the sealed
-interface down. Not yet modelled: contact of the crater wall with the plate,
-so a run stops with a clear message once the wall reaches the plate.
+interface down. The crater wall is in frictionless contact with the plate
+(z >= 0, a variational inequality: PETSc's vinewtonrsls); a crater that
+closes (V1 = 0) leaves a vacuum. Not yet modelled: self-contact of the wall
+and loss-of-stability detection.
 """
 
 from __future__ import annotations
@@ -50,8 +52,9 @@ Units and normalisations:
   preload eps    = -dL / L of the specimen
   V/V0, A/A0     crater volume and projected area over their values at rest
   F_tilde        = F / (p_a A0) = (1 - V1/V2) A2/A0
-Not yet modelled: contact of the crater wall with the plate (a run stops
-with a message when the wall reaches it)."""
+The wall is in frictionless contact with the plate. Not yet modelled:
+self-contact and stability detection; near the rim the wall creases at
+large preloads, where the stepping reports how far it got."""
 HELP = {
     "fluid": "crater fluid (air: ideal gas)",
     "alpha": "crater aspect b/a, in (0, 1]",
@@ -149,20 +152,54 @@ class Crater:
             fem.assemble_scalar(fem.form(1.0 * ufl.dx(domain=mesh))), op=__import__("mpi4py").MPI.SUM)
         return IdealGas()
 
+    def vacuum(self):
+        """A closed crater: no air, so the ambient pressure acts alone, p_a V(u)."""
+        volume_density = self.volume_density
+
+        class Vacuum:
+            def energy(self, ctx):
+                return volume_density
+
+        return Vacuum()
+
     def observe(self, stage: str, eps: float, V1: float | None = None) -> dict:
         V0, A0 = self.geometry.crater_volume, math.pi * self.geometry.crater_radius**2
         V = global_sum(self.volume)
-        A = math.pi * (self.geometry.crater_radius + float(self.rim()[0])) ** 2
+        A = math.pi * self.open_radius() ** 2
         p = real_value(self.ctx.states["gas_pressure"]) if "gas_pressure" in self.ctx.states and V1 else 1.0
+        if V1 == 0.0:
+            p = 0.0  # closed crater: vacuum
         return {"stage": stage, "eps": eps, "V_over_V0": V / V0, "p_over_pa": p, "A_over_A0": A / A0,
                 "F_tilde": (1 - p) * A / A0, "V": V}
 
-    def wall_on_plate(self) -> bool:
-        """Whether a crater-wall node has reached the plate (contact is not modelled)."""
-        Vz = self.u.function_space.sub(1).collapse()
-        z = self.u.sub(1).collapse().x.array[self._wall_dofs] + Vz[0].tabulate_dof_coordinates()[self._wall_dofs, 1]
-        local = bool(np.any(z[z == z] < -1e-9 * self.geometry.crater_radius)) if z.size else False
-        return self.mesh.comm.allreduce(local, op=__import__("mpi4py").MPI.LOR)
+    def contact_bounds(self, problem):
+        """z = Z + u_z >= 0 on the crater wall (frictionless contact with the plate), as
+        bounds of the variational-inequality solver; every other unknown is free."""
+        lower = [fem.Function(s.function_space) for s in problem.states]
+        upper = [fem.Function(s.function_space) for s in problem.states]
+        for f in lower:
+            f.x.array[:] = -1e20
+        for f in upper:
+            f.x.array[:] = 1e20
+        V = self.u.function_space
+        Vz, zmap = V.sub(1).collapse()
+        Z = Vz.tabulate_dof_coordinates()[self._wall_dofs, 1]
+        lower[problem.names.index("displacement")].x.array[np.asarray(zmap).reshape(-1)[self._wall_dofs]] = -Z
+        problem.set_bounds(lower, upper)
+
+    def open_radius(self) -> float:
+        """Current radius of the part of the crater wall off the plate: the edge of the
+        suction area (the rim itself while no part of the wall lies on the plate)."""
+        V = self.u.function_space
+        Vz, zmap = V.sub(1).collapse()
+        Vr, rmap = V.sub(0).collapse()
+        zmap, rmap = np.asarray(zmap).reshape(-1), np.asarray(rmap).reshape(-1)
+        X = Vz.tabulate_dof_coordinates()[self._wall_dofs]
+        z = X[:, 1] + self.u.x.array[zmap[self._wall_dofs]]
+        r = X[:, 0] + self.u.x.array[rmap[self._wall_dofs]]
+        off = z > 1e-6 * self.geometry.crater_radius
+        local = float(r[off].max()) if off.any() else 0.0
+        return self.mesh.comm.allreduce(local, op=__import__("mpi4py").MPI.MAX)
 
 
 def solve(params: Params, comm) -> tuple[list[dict], dict]:
@@ -173,21 +210,22 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     model = Crater(params, comm)
     H = params.specimen_height
     rows = [model.observe("load", 0.0)]
-    loading = Problem(model.ctx, [model.solid], model.bcs, "bcfem_crater_load_")
+    vi = {"snes_type": "vinewtonrsls"}
+    loading = Problem(model.ctx, [model.solid], model.bcs, "bcfem_crater_load_", vi)
+    model.contact_bounds(loading)
+    reached = 0.0
     for k in range(1, params.load_steps + 1):
-        eps = params.preload * k / params.load_steps
-        model.platen.x.array[:] = -eps * H
-        if not loading.solve():
-            raise RuntimeError(f"stage 1: no converged state at eps = {eps:.4g} (SNES reason {loading.reason})")
-        if model.wall_on_plate():
-            raise RuntimeError(f"stage 1: the crater wall reaches the plate at eps = {eps:.4g}; "
-                               "contact is not modelled yet")
-        rows.append(model.observe("load", eps))
+        target = params.preload * k / params.load_steps
+        reached = _step_platen(model, loading, reached, target, H)
+        rows.append(model.observe("load", reached))
     loading.close()
     V1 = rows[-1]["V"]
-    model.ctx.real_state("gas_pressure").x.array[:] = 1.0
-    gas = model.gas(V1)
-    unloading = Problem(model.ctx, [model.solid, gas], model.bcs, "bcfem_crater_unload_")
+    closed = V1 <= 1e-8 * model.geometry.crater_volume  # full closure: no air left, vacuum on unloading
+    if not closed:
+        model.ctx.real_state("gas_pressure").x.array[:] = 1.0
+    gas = model.vacuum() if closed else model.gas(V1)
+    unloading = Problem(model.ctx, [model.solid, gas], model.bcs, "bcfem_crater_unload_", vi)
+    model.contact_bounds(unloading)
     lagrangian = model.solid.energy(model.ctx) + gas.energy(model.ctx)
     w = fem.Function(model.u.function_space)
     w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / H]))
@@ -199,18 +237,29 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
             raise RuntimeError(f"stage 2: no converged state at eps = {strain:.4g} (SNES reason {unloading.reason})")
         return global_sum(platen_force)
 
-    previous = (params.preload, force_at(params.preload), unloading.save())
-    zero_force = 0.0
-    for k in range(1, params.load_steps + 1):
-        eps = params.preload * (1 - k / params.load_steps)
-        force = force_at(eps)
-        if force >= 0:  # compressive platen force is negative: it has vanished in this step
-            unloading.restore(previous[2])
-            zero_force = brentq(force_at, eps, previous[0], xtol=1e-12 * max(params.preload, 1e-3))
+    # retract the platen in adaptive steps until its force changes sign (compression < 0)
+    current, step = params.preload, params.preload / params.load_steps
+    state, zero_force = unloading.save(), 0.0
+    force_at(current)
+    while current > 0:
+        trial = max(0.0, current - step)
+        try:
+            force = force_at(trial)
+        except RuntimeError:
+            unloading.restore(state)
+            step *= 0.5
+            if step < params.preload * 0.5**12:
+                raise
+            continue
+        if force >= 0:
+            unloading.restore(state)
+            zero_force = brentq(force_at, trial, current, xtol=1e-12 * max(params.preload, 1e-3))
             force_at(zero_force)
             break
-        rows.append(model.observe("unload", eps, V1))
-        previous = (eps, force, unloading.save())
+        rows.append(model.observe("unload", trial, 0.0 if closed else V1))
+        current, state, step = trial, unloading.save(), step * 1.5
+    if closed:
+        V1 = 0.0
     final = model.observe("unload", zero_force, V1)
     rows.append(final)
     unloading.close()
@@ -219,9 +268,12 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
         "F_tilde": final["F_tilde"], "V1_over_V0": V1 / geometry.crater_volume,
         "V2_over_V0": final["V_over_V0"], "p2_over_pa": final["p_over_pa"], "A2_over_A0": final["A_over_A0"],
         "eps_at_zero_force": zero_force,
-        "gas_law_residual": final["p_over_pa"] * final["V"] / V1 - 1,
-        "eps_closure": None, "instabilities": [],
-        "not_modelled": "contact of the crater wall with the plate; loss-of-stability detection",
+        "gas_law_residual": final["p_over_pa"] * final["V"] / V1 - 1 if V1 else 0.0,
+        "eps_closure": params.preload if closed else None,
+        "closure_note": "this preload closes the crater (V1 = 0); the first closing preload is found by a sweep"
+        if closed else None,
+        "instabilities": [],
+        "not_modelled": "loss-of-stability detection; self-contact of the crater wall",
         "gas_permeation": permeation_estimate(1 - final["p_over_pa"], geometry.crater_radius),
         "dofs": sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.bs
                     for s in model.ctx.states.values()),
@@ -230,6 +282,25 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     for row in rows:
         row.pop("V")
     return rows, summary
+
+
+def _step_platen(model, problem, start: float, target: float, H: float, cuts: int = 10) -> float:
+    """Move the platen from strain ``start`` to ``target``; a failed increment is halved and
+    retried, a converged one lets the next grow. Nothing unconverged is kept."""
+    current, step = start, target - start
+    while current < target:
+        trial = min(target, current + step)
+        model.platen.x.array[:] = -trial * H
+        if problem.solve():
+            current, step = trial, step * 1.5
+            continue
+        step *= 0.5
+        if step < (target - start) * 0.5**cuts:
+            model.platen.x.array[:] = -current * H
+            raise RuntimeError(f"stage 1: no converged state beyond eps = {current:.4g} towards "
+                               f"{target:.4g} after {cuts} cut-backs (SNES reason {problem.reason}); "
+                               "near the rim the crater wall creases at large preloads")
+    return current
 
 
 def permeation_estimate(pressure_drop: float, crater_radius_mm: float, unload_time_s: float = 200.0,
