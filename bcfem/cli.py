@@ -82,6 +82,8 @@ def build_parser():
                        help="a grid axis (repeat for each axis; two axes give contour maps)")
         p.add_argument("--out", type=Path, default=Path("results") / f"{name}-sweep")
         p.add_argument("--quiet", action="store_true")
+        if not hasattr(studies, "fit"):
+            continue
         p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,
                             formatter_class=argparse.RawDescriptionHelpFormatter)
         _add_params(p, module.Params, module.HELP)
@@ -162,13 +164,16 @@ def _sweep(parser, args, module, params, comm) -> int:
         parser.exit(2, f"bcfem sweep {args.scene}: error: {err}\n" if comm.rank == 0 else "")
     configure(comm, quiet=args.quiet)
     rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm)
+    if len(axes) == 1:
+        sweep.curves(rows, axes[0][0], studies.SWEEP["maps"], f"{args.scene}: {studies.SWEEP['title']}",
+                     args.out / "curves.png", comm)
     if len(axes) == 2:
         sweep.contour_maps(rows, axes[0][0], axes[1][0], studies.SWEEP["maps"],
                            f"{args.scene}: {studies.SWEEP['title']}", args.out / "maps.png", comm)
     if comm.rank == 0:
         failed = sum(r["status"] != "ok" for r in rows)
         print(f"wrote {args.out / 'sweep.csv'} ({len(rows)} points, {failed} failed)"
-              + (f" and {args.out / 'maps.png'}" if len(axes) == 2 else ""))
+              + (f" and {args.out / ('maps.png' if len(axes) == 2 else 'curves.png')}" if len(axes) <= 2 else ""))
     return 0
 
 

@@ -131,3 +131,22 @@ def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     io.save_figure(fig, path, comm)
+
+
+def curves(rows, x: str, panels: list[tuple[str, str]], title: str, path, comm=MPI.COMM_WORLD):
+    """One panel per (column, label) against the single grid axis; failed points are gaps."""
+    if comm.rank != 0:
+        return
+    from bcfem.plots import pyplot
+
+    plt = pyplot()
+    fig, axes = plt.subplots(1, len(panels), figsize=(3.4 * len(panels), 3.2))
+    xs = [r[x] for r in rows]
+    for ax, (column, label) in zip(np.atleast_1d(axes), panels):
+        ax.plot(xs, [r.get(column) if r["status"] == "ok" else np.nan for r in rows], "-o", ms=3)
+        ax.set_xlabel(x)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    io.save_figure(fig, path, comm)

@@ -336,3 +336,17 @@ def plot(rows, summary):
     axes[0].legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def sweep_point(params: Params, comm) -> dict:
+    """One point of ``bcfem sweep crater``: the cycle's end values."""
+    _, summary = solve(params, comm)
+    return {k: summary[k] for k in ("F_tilde", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
+                                    "eps_at_zero_force")}
+
+
+#: What ``bcfem sweep crater`` computes and plots (one axis: a curve per column).
+SWEEP = {"solve": sweep_point,
+         "maps": [("F_tilde", "F~"), ("V1_over_V0", "V1/V0"), ("V2_over_V0", "V2/V0"),
+                  ("p2_over_pa", "p2/p_a"), ("A2_over_A0", "A2/A0")],
+         "title": "suction cycle"}
