@@ -291,17 +291,26 @@ def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
     covers caps steeper than a hemisphere. A flat membrane has no tension, so
     Newton cannot start there.
     """
-    if params.edge == "sliding":
+    young = {"sliding": params.phi_Y_deg,
+             "slippery": math.degrees(math.acos(-params.adhesion / params.alpha))
+             if params.alpha > 0 and abs(params.adhesion) < params.alpha else None}.get(params.edge)
+    if young is not None:
         weight = params.alpha / (params.alpha + params.stiffness)
-        theta = math.radians(90.0 + weight * (params.phi_Y_deg - 90.0))
+        theta = math.radians(90.0 + weight * (young - 90.0))
         base = (v_over_v0 / float(droplet(theta)[2])) ** (1.0 / 3.0)
     else:
         theta, base = droplet_angle_from_volume(v_over_v0), 1.0
     rho = base / math.sin(theta)
+    outer = params.outer_radius
 
     def cap(x):
-        xi = np.minimum(x[0], 1.0)  # beyond the front (slippery edge) the film stays flat
-        return np.vstack([rho * np.sin(theta * xi) - xi, rho * (np.cos(theta * xi) - math.cos(theta))])
+        xi = np.minimum(x[0], 1.0)
+        shape = np.vstack([rho * np.sin(theta * xi) - xi, rho * (np.cos(theta * xi) - math.cos(theta))])
+        bonded = x[0] > 1.0  # the slippery edge's film: flat, its front moved with the cap's base
+        R = 1.0 + (outer - 1.0) * (x[0] - 1.0)
+        shape[0, bonded] = base + (outer - base) * (x[0][bonded] - 1.0) - R[bonded]
+        shape[1, bonded] = 0.0
+        return shape
 
     ctx.u.interpolate(cap)
     # the membrane part from the simple theory (capped: membrane pressures stay O(2 mu t0 / R0)),
