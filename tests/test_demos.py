@@ -25,6 +25,10 @@ DEMOS = sorted((Path(__file__).resolve().parents[1] / "demos").glob("*.py"))
 EXPECTED = {
     "blister_theories.py": ["theories.png", "curves.csv", "summary.json"],
     "blister_surface_tension.py": ["surface_tension.png", "curves.csv", "summary.json"],
+    "blister_sliding.py": ["sliding_fig3_7.png", "sliding_fig3_8.png", "sliding_fig3_10.png", "curves.csv",
+                           "profiles_V0.1.csv", "summary.json"],
+    "blister_slippery.py": ["slippery_fig3_18.png", "slippery_fig3_19.png", "slippery_fig3_20.png",
+                            "branches.csv", "profiles_V1.5.csv", "summary.json"],
 }
 TIMEOUT = 600  # [s]; a deadlock at exit shows up as a timeout, not a hang
 
