@@ -147,7 +147,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"bcfem run {args.scene}: solver failed: {err}", file=sys.stderr)
         return 1
     if comm.rank == 0:
-        print(f"wrote {args.out / 'branch.csv'}, {args.out / 'summary.json'} and the plots in {args.out}")
+        written = sorted(p.name for p in args.out.iterdir() if not p.name.startswith("."))
+        print(f"wrote in {args.out}: " + ", ".join(written))
     return 0
 
 
