@@ -40,8 +40,17 @@ def parse_axis(text: str) -> tuple[str, np.ndarray]:
     return name, np.array([float(v) for v in spec.split(",")])
 
 
-def point_key(values: dict) -> str:
-    return "_".join(f"{k}={v:.12g}" for k, v in sorted(values.items()))
+def point_key(values: dict, params=None) -> str:
+    """File name of a point: its grid values, plus a digest of every other parameter, so a
+    rerun with different settings never reuses stale points."""
+    key = "_".join(f"{k}={v:.12g}" for k, v in sorted(values.items()))
+    if params is None:
+        return key
+    import hashlib
+
+    settings = {k: v for k, v in dataclasses.asdict(params).items() if k not in values}
+    digest = hashlib.sha1(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()[:10]
+    return f"{key}_{digest}"
 
 
 def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
@@ -75,9 +84,9 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD) -> list[dict]:
     for index, (values, params) in enumerate(points):
         if index % comm.size != comm.rank:
             continue
-        path = point_dir / f"{point_key(values)}.json"
-        if path.exists():
-            skipped += 1
+        path = point_dir / f"{point_key(values, params)}.json"
+        if path.exists() and json.loads(path.read_text()).get("status") == "ok":
+            skipped += 1  # finished before; failed points are retried
             continue
         level = logger.level
         logger.setLevel(logging.WARNING)  # no per-step progress from inside a point
@@ -97,8 +106,8 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD) -> list[dict]:
     comm.barrier()
     rows = []
     if comm.rank == 0:
-        for values, _ in points:
-            rows.append(json.loads((point_dir / f"{point_key(values)}.json").read_text()))
+        for values, params in points:
+            rows.append(json.loads((point_dir / f"{point_key(values, params)}.json").read_text()))
         columns = sorted({k for r in rows for k in r}, key=lambda k: (k in ("status", "reason"), k))
         io.write_csv(out / "sweep.csv", rows, comm, columns)
     logger.info(f"sweep: {total_done} points solved, {total_skipped} reused, "
