@@ -287,9 +287,17 @@ class ArcLength:
                     problem.restore(last_state)
                 self._record(branch, last, on_accept)
                 break
-            # the end point is located before the guard looks: past it nothing counts
+            # the end point is located before the guard looks: past it nothing counts. A step
+            # that lands outside the physical range is cut back like a failed one.
             if guard and (message := guard(new_values)):
-                raise ContinuationError(f"step {step}: {message}")
+                branch.failed_steps += 1
+                ds *= 0.5
+                problem.restore(base)
+                if fired:
+                    pending.append(fired)  # not reached after all
+                if ds < p.ds_min:
+                    raise ContinuationError(f"step {step}: {message}")
+                continue
             if np.sign(new_tangent[il][0]) != np.sign(tangent[il][0]):
                 branch.limit_points.append(self._locate_fold(
                     problem, base, tangent, ds, s, observe, float(new_tangent[il][0])))
