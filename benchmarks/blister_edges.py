@@ -36,13 +36,10 @@ T_START = time.perf_counter()
 import argparse  # noqa: E402
 import json  # noqa: E402
 import math  # noqa: E402
-import os  # noqa: E402
-import shutil  # noqa: E402
-import subprocess  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+from common import ROOT, atomic_text, count_newton, csv_text, fmt, richardson, run_worker  # noqa: E402
 OUT = ROOT / "docs" / "benchmarks"
 COMMON = {"alpha": 0.5, "adhesion": 2.5}
 CASES = {  # name -> (Params fields, bracket of Vc for the energy method, dissertation's Vc)
@@ -71,21 +68,12 @@ def worker(case: dict) -> dict:
 
     from bcfem.continuation import ContinuationError
     from bcfem.log import configure
-    from bcfem.problem import Problem
     from bcfem.runner import branch_of
     from bcfem.scenes import blister_rigid, blister_studies
 
     configure(MPI.COMM_WORLD, quiet=True)
     t_import = time.perf_counter() - T_START
-    count = {"its": 0}
-    solve = Problem.solve
-
-    def counted(self):  # every SNES iteration, also of event location and Brent
-        ok = solve(self)
-        count["its"] += self.iterations
-        return ok
-
-    Problem.solve = counted
+    count, _ = count_newton()
     fields, bracket, _ = CASES[case["case"]]
     fields = {**fields, **case.get("fields", {})}
     t1, c1 = time.perf_counter(), time.process_time()
@@ -118,18 +106,7 @@ CORE = "0"  # the core the workers are pinned to (--core)
 
 def run_case(case: dict) -> dict:
     """Run ``case`` in a subprocess on one core."""
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    env.pop("PETSC_OPTIONS", None)
-    cmd = [sys.executable, __file__, "--worker", json.dumps(case)]
-    if shutil.which("taskset"):
-        cmd = ["taskset", "-c", CORE, *cmd]
-    t0 = time.perf_counter()
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, cwd=ROOT)
-    t_process = time.perf_counter() - t0
-    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]
-    if proc.returncode != 0 or not lines:
-        raise RuntimeError(f"case {case} crashed:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
-    return {**json.loads(lines[-1][7:]), "t_process": t_process}
+    return run_worker(__file__, case, CORE)
 
 
 def timed(case: dict, repeats: int) -> dict:
@@ -141,12 +118,8 @@ def timed(case: dict, repeats: int) -> dict:
     return res
 
 
-def richardson(coarse, fine, order=ORDER):
-    return fine + (fine - coarse) / (2**order - 1)
 
 
-def fmt(x, spec=".2e"):
-    return "" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, spec)
 
 
 def main(argv=None):
@@ -193,8 +166,8 @@ def main(argv=None):
         vc = {r["cells"]: r["Vc"] for r in rows if r["case"] == name and r["degree"] == 2
               and r["method"] == "event" and r["status"] == "ok"}
         n = CELLS[2]
-        ref = richardson(vc[n[-2]], vc[n[-1]])
-        refs[name] = {"Vc": ref, "floor": abs(richardson(vc[n[-3]], vc[n[-2]]) - ref),
+        ref = richardson(vc[n[-2]], vc[n[-1]], ORDER)
+        refs[name] = {"Vc": ref, "floor": abs(richardson(vc[n[-3]], vc[n[-2]], ORDER) - ref),
                       "correction": abs(ref - vc[n[-1]]),
                       "observed_order": [math.log2(abs(vc[a] - vc[b]) / abs(vc[b] - vc[c]))
                                          for a, b, c in zip(n, n[1:], n[2:]) if vc[b] != vc[c]],
@@ -223,23 +196,8 @@ COLUMNS = ["study", "case", "method", "degree", "cells", "dofs", "start_volume",
            "t_solve", "c_solve", "t_process", "t_import", "steps", "its", "V_start", "N_theta_min", "reason"]
 
 
-def csv_text(rows) -> str:
-    import csv
-    import io
-
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=COLUMNS, extrasaction="ignore", lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()})
-    return buf.getvalue()
 
 
-def atomic_text(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
 
 
 def series(rows, name, degree, method):
@@ -252,7 +210,7 @@ def write_outputs(rows, refs, args):
     from bcfem import io
     from bcfem.plots import pyplot
 
-    atomic_text(OUT / "blister-edges.csv", csv_text(rows))
+    atomic_text(OUT / "blister-edges.csv", csv_text(rows, COLUMNS))
     plt = pyplot()
     fig, axes = plt.subplots(1, len(CASES), figsize=(14.5, 4.4), sharey=True)
     styles = {(1, "event"): ("o-", "tab:blue", "P1, event of the traced branch"),

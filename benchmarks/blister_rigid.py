@@ -40,7 +40,7 @@ import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[1]
+from common import ROOT, atomic_text, count_newton, csv_text, fmt, richardson, run_worker  # noqa: E402
 OUT = ROOT / "docs" / "benchmarks"
 GRID = [0.25 * k for k in range(1, 25)]  # V/V0 = 0.25, 0.5, ..., 6
 CELLS_DEFAULT = [25, 50, 100, 200, 400, 800, 1600, 3200]
@@ -68,18 +68,7 @@ def worker(case: dict) -> dict:
 
     t_import = time.perf_counter() - t0 + (t0 - T_START)
 
-    # count every Newton solve, including those of the limit/end point location
-    # (Branch.newton_iterations counts only the accepted steps)
-    count = {"solves": 0, "its": 0}
-    solve = Problem.solve
-
-    def counted(self):
-        ok = solve(self)
-        count["solves"] += 1
-        count["its"] += self.iterations
-        return ok
-
-    Problem.solve = counted
+    count, _ = count_newton()
 
     t1, c1 = time.perf_counter(), time.process_time()
     cont = ContinuationParams(**{"ds_max": 0.1, **case.get("continuation", {})})
@@ -119,20 +108,7 @@ def worker(case: dict) -> dict:
 # ----------------------------------------------------------------------------------------
 def run_case(case: dict, cache: str | None = None) -> dict:
     """Run ``case`` in a subprocess on one core; ``cache`` is an XDG_CACHE_HOME (cold runs)."""
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    env.pop("PETSC_OPTIONS", None)
-    if cache:
-        env["XDG_CACHE_HOME"] = cache
-    cmd = [sys.executable, __file__, "--worker", json.dumps(case)]
-    if shutil.which("taskset"):
-        cmd = ["taskset", "-c", "0", *cmd]
-    t0 = time.perf_counter()
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, cwd=ROOT)
-    t_process = time.perf_counter() - t0
-    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]
-    if proc.returncode != 0 or not lines:
-        raise RuntimeError(f"case {case} failed:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
-    return {**json.loads(lines[-1][7:]), "t_process": t_process}
+    return run_worker(__file__, case, "0", cache)
 
 
 def timed(case: dict, repeats: int) -> dict:
@@ -171,16 +147,12 @@ def cold(case: dict) -> dict:
     return res
 
 
-def richardson(coarse, fine, order=ORDER):
-    return fine + (fine - coarse) / (2**order - 1)
 
 
 def rel(a, b):
     return abs(a - b) / abs(b)
 
 
-def fmt(x, spec=".2e"):
-    return "" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, spec)
 
 
 def main(argv=None):
@@ -220,13 +192,13 @@ def main(argv=None):
 
     # -- reference: Richardson on the two finest P2 meshes ------------------------------
     (lc, c), (lf, f) = results[2, REF_CELLS[0]], results[2, REF_CELLS[1]]  # (limit, branch) runs
-    ref_max = richardson(lc["P_max"], lf["P_max"])
-    ref_min = richardson(c["P_min"], f["P_min"])
-    ref_grid = [richardson(a, b) for a, b in zip(c["P_grid"], f["P_grid"])]
+    ref_max = richardson(lc["P_max"], lf["P_max"], ORDER)
+    ref_min = richardson(c["P_min"], f["P_min"], ORDER)
+    ref_grid = [richardson(a, b, ORDER) for a, b in zip(c["P_grid"], f["P_grid"])]
     # how far the reference can be trusted: Richardson on the next-coarser pair moves it by this much
     (lc2, c2) = results[2, CELLS[-3]]
-    floor_max = rel(richardson(lc2["P_max"], lc["P_max"]), ref_max)
-    floor_grid = max(rel(richardson(a, b), r) for a, b, r in zip(c2["P_grid"], c["P_grid"], ref_grid))
+    floor_max = rel(richardson(lc2["P_max"], lc["P_max"], ORDER), ref_max)
+    floor_grid = max(rel(richardson(a, b, ORDER), r) for a, b, r in zip(c2["P_grid"], c["P_grid"], ref_grid))
     # observed order of P_max from P2 self-convergence (no reference used)
     pm = [results[2, n][0]["P_max"] for n in CELLS]
     observed = [math.log2(abs(pm[i] - pm[i + 1]) / abs(pm[i + 1] - pm[i + 2])) for i in range(len(CELLS) - 2)]
@@ -291,16 +263,6 @@ COLUMNS = ["study", "degree", "cells", "dofs", "cache", "ds_max", "err_limit", "
            "compiled_modules", "spread", "runs", "P_max", "P_min"]
 
 
-def csv_text(rows) -> str:
-    import csv
-    import io
-
-    buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=COLUMNS, extrasaction="ignore", lineterminator="\n")
-    w.writeheader()
-    for r in rows:
-        w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()})
-    return buf.getvalue()
 
 
 def import_breakdown() -> dict:
@@ -317,11 +279,6 @@ def import_breakdown() -> dict:
     return {"dolfinx/petsc4py/ufl/basix": best[0], "scipy.optimize": best[1], "rest of bcfem": best[2]}
 
 
-def atomic_text(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
 
 
 def best(rows, err, t, tol):
@@ -337,7 +294,7 @@ def write_outputs(rows, ref, args):
     from bcfem import io
     from bcfem.plots import pyplot
 
-    atomic_text(OUT / "blister-rigid.csv", csv_text(rows))
+    atomic_text(OUT / "blister-rigid.csv", csv_text(rows, COLUMNS))
     conv = [r for r in rows if r["study"] == "convergence"]
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.6))

@@ -37,9 +37,9 @@ from bcfem import options
 from bcfem.energies import MembraneStrain
 from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
-from bcfem.problem import Problem
 from bcfem.runner import trace
 from bcfem.scenes import blister_rigid
+from common import count_newton
 
 V0 = blister_rigid.V0
 NEWTON = {"snes_rtol": 1e-10, "snes_atol": 1e-10, "snes_stol": 1e-12, "ksp_type": "preonly",
@@ -60,15 +60,7 @@ def folds(P):
 
 # -- bcfem: bordered pseudo-arc-length ------------------------------------------------------
 def run_bcfem(args, ds_max):
-    count = {"its": 0}
-    solve = Problem.solve
-
-    def counted(self):  # every Newton solve, also those of the Brent location
-        ok = solve(self)
-        count["its"] += self.iterations
-        return ok
-
-    Problem.solve = counted
+    count, stop_counting = count_newton()  # every Newton solve, also those of the Brent location
     try:
         scene = scene_of(args, ds_max=ds_max, ds=min(0.05, ds_max))
         t0, c0 = time.perf_counter(), time.process_time()
@@ -76,7 +68,7 @@ def run_bcfem(args, ds_max):
         wall, cpu = time.perf_counter() - t0, time.process_time() - c0
         problem.close()
     finally:
-        Problem.solve = solve
+        stop_counting()
     return {"method": "bcfem bordered", "setting": f"ds_max={ds_max:g}", "steps": len(branch.rows) - 1,
             "its": count["its"], "wall": wall, "cpu": cpu, "V_end": branch.rows[-1]["V_over_V0"], "stop": "reached v_max",
             "folds": {lp.kind: (lp.values["P"], lp.values["V_over_V0"]) for lp in branch.limit_points}}

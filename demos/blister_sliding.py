@@ -384,6 +384,16 @@ if comm.rank == 0:
         ax.plot(V[: i + 1], y[: i + 1], **{**style, "ls": ":"})
         ax.plot(V[i:], y[i:], **style)
 
+    def frame(ax, ylim, label, tag):
+        """Axes of a V/V0 panel: limits, labels, grid and the panel letter."""
+        ax.set_xlim(0, V_MAX)
+        ax.set_ylim(*ylim)
+        ax.set_xlabel(r"$V/V_0$")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        ax.text(0.03, 0.96, f"({tag})", transform=ax.transAxes, va="top", fontweight="bold",
+                bbox=dict(fc="white", ec="none", pad=1))
+
     # Fig. 3.7
     colors = dict(zip(ALPHAS, ["k", "C0", "C2", "C1", "C3"]))
     fig, axes = plt.subplots(1, 3, figsize=(13.0, 4.2))
@@ -403,13 +413,7 @@ if comm.rank == 0:
                 for lp in b.limit_points:
                     ax.plot(lp.values["V_over_V0"], lp.values["P"], "o", ms=5, mfc="white", mec=colors[alpha],
                             zorder=3)
-        ax.set_xlim(0, V_MAX)
-        ax.set_ylim(*ylim)
-        ax.set_xlabel(r"$V/V_0$")
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
-        ax.text(0.03, 0.96, f"({tag})", transform=ax.transAxes, va="top", fontweight="bold",
-                bbox=dict(fc="white", ec="none", pad=1))
+        frame(ax, ylim, label, tag)
     axes[0].set_yscale("log")
     axes[1].axhline(printed, color="0.35", ls=":", lw=1.0)
     axes[1].text(3.0, printed - 0.04, r"printed $1+\sqrt{2}/2$ (likely typo)", fontsize=8, color="0.3", va="top")
@@ -442,13 +446,7 @@ if comm.rank == 0:
                 draw(ax, b, y, V_EDGE if unresolved(phi_Y, alpha) else None, **style)
         y = z_over_r1(plain) if key == "z0_over_r1" else plain.column(key)
         draw(ax, plain, y, V_EDGE, ls="-", color="k", lw=1.8, zorder=3)
-        ax.set_xlim(0, V_MAX)
-        ax.set_ylim(*ylim)
-        ax.set_xlabel(r"$V/V_0$")
-        ax.set_ylabel(label)
-        ax.grid(alpha=0.3)
-        ax.text(0.03, 0.96, f"({tag})", transform=ax.transAxes, va="top", fontweight="bold",
-                bbox=dict(fc="white", ec="none", pad=1))
+        frame(ax, ylim, label, tag)
     axes[1].set_yticks(range(0, 181, 30))
     handles = [Line2D([], [], color=cmaps[p](0.75), lw=2, label=rf"$\phi_Y = {p:g}°$") for p in PHI_Y_DEG]
     handles += [Line2D([], [], color="0.3", ls="-.", lw=1.5, label=r"$\alpha = \infty$ (droplet)"),

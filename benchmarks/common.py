@@ -1,0 +1,83 @@
+"""What the benchmark scripts share: one-core worker processes, Newton counting,
+Richardson extrapolation, atomic text output and table formatting."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run_worker(script: str, case: dict, core: str = "0", cache: str | None = None) -> dict:
+    """Run ``script --worker CASE`` in a fresh process pinned to ``core`` (one thread);
+    ``cache`` is an XDG_CACHE_HOME for cold-JIT runs. Returns its ``RESULT`` line plus
+    the whole process time."""
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    env.pop("PETSC_OPTIONS", None)
+    if cache:
+        env["XDG_CACHE_HOME"] = cache
+    cmd = [sys.executable, script, "--worker", json.dumps(case)]
+    if shutil.which("taskset"):
+        cmd = ["taskset", "-c", core, *cmd]
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, cwd=ROOT)
+    t_process = time.perf_counter() - t0
+    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]
+    if proc.returncode != 0 or not lines:
+        raise RuntimeError(f"case {case} failed:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
+    return {**json.loads(lines[-1][7:]), "t_process": t_process}
+
+
+def count_newton():
+    """Count every Newton solve and iteration from now on (also those of event location and
+    Brent; ``Branch.newton_iterations`` counts accepted steps only).
+
+    Returns:
+        (the running counts, a function that stops counting)
+    """
+    from bcfem.problem import Problem
+
+    count = {"solves": 0, "its": 0}
+    solve = Problem.solve
+
+    def counted(self):
+        ok = solve(self)
+        count["solves"] += 1
+        count["its"] += self.iterations
+        return ok
+
+    Problem.solve = counted
+    return count, lambda: setattr(Problem, "solve", solve)
+
+
+def richardson(coarse, fine, order):
+    return fine + (fine - coarse) / (2**order - 1)
+
+
+def fmt(x, spec=".2e"):
+    return "" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, spec)
+
+
+def csv_text(rows, columns) -> str:
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()})
+    return buf.getvalue()
+
+
+def atomic_text(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
