@@ -121,8 +121,13 @@ class Crater:
         self.volume_density = cavity_volume_density(self.ctx.kin, ufl.FacetNormal(msh)) * ds(CRATER)
         self.volume = fem.form(self.volume_density)
         self.rim = PointEvaluator(msh, [geometry.crater_radius, 0.0]).expression(self.u[0])
-        wall = fem.locate_dofs_topological(V.sub(1).collapse()[0], 1, facets.find(CRATER))
+        Vz, zmap = V.sub(1).collapse()
+        _, rmap = V.sub(0).collapse()
+        wall = fem.locate_dofs_topological(Vz, 1, facets.find(CRATER))
         self._wall_dofs = wall
+        # reference points and displacement dofs of the crater wall, found once
+        self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
+                      np.asarray(rmap).reshape(-1)[wall])
         self.mesh = msh
 
     def _bcs(self, V, facets):
@@ -190,13 +195,9 @@ class Crater:
     def open_radius(self) -> float:
         """Current radius of the part of the crater wall off the plate: the edge of the
         suction area (the rim itself while no part of the wall lies on the plate)."""
-        V = self.u.function_space
-        Vz, zmap = V.sub(1).collapse()
-        Vr, rmap = V.sub(0).collapse()
-        zmap, rmap = np.asarray(zmap).reshape(-1), np.asarray(rmap).reshape(-1)
-        X = Vz.tabulate_dof_coordinates()[self._wall_dofs]
-        z = X[:, 1] + self.u.x.array[zmap[self._wall_dofs]]
-        r = X[:, 0] + self.u.x.array[rmap[self._wall_dofs]]
+        X, zdofs, rdofs = self._wall
+        z = X[:, 1] + self.u.x.array[zdofs]
+        r = X[:, 0] + self.u.x.array[rdofs]
         off = z > 1e-6 * self.geometry.crater_radius
         local = float(r[off].max()) if off.any() else 0.0
         return self.mesh.comm.allreduce(local, op=__import__("mpi4py").MPI.MAX)
