@@ -148,3 +148,26 @@ class SolidStrain:
     def energy(self, ctx):
         p = ctx.field_state("solid_pressure", self.pressure_degree)
         return ctx.kin.integral(self.material.density(ctx.kin, p), self.region)
+
+
+@dataclass(frozen=True)
+class SolidSurfaceEnergy:
+    r"""Surface energy of part of a solid's boundary in the current configuration,
+    :math:`\gamma \int \lambda_s\lambda_\theta\, dA` (isotropic, strain-independent).
+
+    Attributes:
+        gamma: surface energy density [N/m], >= 0; the run-time constant ``name``.
+        boundary: facet tag of the surface.
+        name: name of the run-time constant.
+    """
+
+    gamma: float
+    boundary: int
+    name: str = "gamma_solid"
+
+    def __post_init__(self):
+        require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
+
+    def energy(self, ctx):
+        gamma = ctx.constant(self.name, self.gamma)
+        return ctx.kin.surface_integral(gamma * ctx.kin.surface_stretch, self.boundary)

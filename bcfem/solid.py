@@ -22,9 +22,10 @@ class AxisymmetricSolid:
         u: displacement (u_r, u_z) on a mesh of the half cross-section r >= 0.
         quadrature_degree: explicit quadrature degree.
         cell_tags: region markers for integrals over part of the body.
+        facet_tags: boundary markers for integrals over part of the surface.
     """
 
-    def __init__(self, u, quadrature_degree: int, cell_tags=None):
+    def __init__(self, u, quadrature_degree: int, cell_tags=None, facet_tags=None):
         mesh = u.function_space.mesh
         self.u = u
         self.x = ufl.SpatialCoordinate(mesh)
@@ -37,8 +38,19 @@ class AxisymmetricSolid:
         self.I1 = ufl.tr(self.F.T * self.F)
         self._dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags,
                                metadata={"quadrature_degree": quadrature_degree})
+        self._ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags,
+                               metadata={"quadrature_degree": quadrature_degree + 2})
+        # surface stretch: meridional |F T| (T the reference tangent) times hoop (r + u_r)/r
+        N = ufl.FacetNormal(mesh)
+        T = ufl.as_vector([-N[1], N[0]])
+        FT = ufl.as_vector([self.F[0, 0] * T[0] + self.F[0, 1] * T[1], self.F[1, 0] * T[0] + self.F[1, 1] * T[1]])
+        self.surface_stretch = ufl.sqrt(ufl.inner(FT, FT)) * self.F[2, 2]
 
     def integral(self, density, region: int | None = None):
         """``density`` integrated over the reference body, dV = 2 pi r dA."""
         dx = self._dx if region is None else self._dx(region)
         return density * 2 * ufl.pi * self.x[0] * dx
+
+    def surface_integral(self, density, boundary: int):
+        """``density`` integrated over the reference boundary part ``boundary``, dA = 2 pi r dS."""
+        return density * 2 * ufl.pi * self.x[0] * self._ds(boundary)

@@ -87,3 +87,27 @@ def test_current_cavity_volume_under_an_affine_map(stretch_r, stretch_z):
     volume = data.mesh.comm.allreduce(fem.assemble_scalar(fem.form(
         cavity_volume_density(kin, ufl.FacetNormal(data.mesh)) * ds(CRATER))), op=MPI.SUM)
     assert volume == pytest.approx(geometry.crater_volume * stretch_r**2 * stretch_z, rel=2e-7)
+
+
+@pytest.mark.parametrize("alpha, stretch", [(1.0, 1.0), (0.7, 1.0), (0.7, 1.1)])
+def test_wall_surface_energy_is_gamma_times_current_area(alpha, stretch):
+    """SolidSurfaceEnergy on the crater wall: gamma pi (a^2 + b^2) for a spherical cap,
+    scaled by stretch^2 under a uniform dilation."""
+    import numpy as np
+
+    from bcfem.context import Context
+    from bcfem.energies import SolidSurfaceEnergy
+    from bcfem.solid import AxisymmetricSolid
+
+    geometry = CraterGeometry(alpha=alpha)
+    data = create_mesh(geometry, MPI.COMM_WORLD)
+    V = fem.functionspace(data.mesh, ("Lagrange", 2, (2,)))
+    u = fem.Function(V)
+    u.interpolate(lambda x: np.vstack([(stretch - 1) * x[0], (stretch - 1) * x[1]]))
+    ctx = Context(u, AxisymmetricSolid(u, quadrature_degree=4, facet_tags=data.facet_tags))
+    gamma = 0.37
+    energy = data.mesh.comm.allreduce(fem.assemble_scalar(fem.form(
+        SolidSurfaceEnergy(gamma, CRATER).energy(ctx))), op=MPI.SUM)
+    a = geometry.crater_radius
+    b = alpha * a
+    assert energy == pytest.approx(gamma * math.pi * (a**2 + b**2) * stretch**2, rel=1e-6)

@@ -14,8 +14,17 @@ Units: pressures in p_a (so μ/p_a = β), lengths in mm. The bottom face is held
 on the plate (u_z = 0, free to slide): ambient pressure holds the sealed
 interface down. The crater wall is in frictionless contact with the plate
 (z >= 0, a variational inequality: PETSc's vinewtonrsls); a crater that
-closes (V1 = 0) leaves a vacuum. Not yet modelled: self-contact of the wall
-and loss-of-stability detection.
+closes (V1 = 0) leaves a vacuum.
+
+Past a preload of about 0.15 the crater wall near the rim, and under suction
+the whole wall, reaches rubber's creasing strain. Creases have no length scale
+of their own, so without one they form at the mesh scale and, with no
+self-contact in the model, fold through themselves. A surface energy γ on the
+crater wall (``surface_energy`` = γ/(μa), default 0.01, physical PDMS 7e-5)
+gives creases a length scale; its effect on F~ is measured by halving it
+(docs/benchmarks/crater-air.md). Loss of (axisymmetric) stability is detected
+from the tangent's inertia after every step; a step Newton cannot reach is
+taken by pseudo-time relaxation (a snap), and both are reported.
 """
 
 from __future__ import annotations
@@ -30,13 +39,15 @@ from dolfinx import fem
 
 from bcfem.cavity import cavity_volume_density
 from bcfem.context import Context
-from bcfem.energies import SolidStrain
+from bcfem.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, TOP, CraterGeometry, create_mesh
 from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.mpi import PointEvaluator, global_sum, real_value
 from bcfem.params import require
 from bcfem.problem import Problem
+from bcfem.relaxation import Viscosity
 from bcfem.solid import AxisymmetricSolid
+from bcfem.stepping import LoadPath, SteppingError
 
 SUMMARY = "air-filled crater pressed on a rigid plate: the suction cycle (ch. 7)"
 DESCRIPTION = """\
@@ -52,9 +63,10 @@ Units and normalisations:
   preload eps    = -dL / L of the specimen
   V/V0, A/A0     crater volume and projected area over their values at rest
   F_tilde        = F / (p_a A0) = (1 - V1/V2) A2/A0
-The wall is in frictionless contact with the plate. Not yet modelled:
-self-contact and stability detection; near the rim the wall creases at
-large preloads, where the stepping reports how far it got."""
+The wall is in frictionless contact with the plate. surface_energy (gamma over
+mu a) on the crater wall regularises creasing; instabilities (the tangent's
+inertia) and snaps (steps passed by pseudo-time relaxation) are reported in
+summary.json. Not modelled: self-contact of the wall, non-axisymmetric modes."""
 HELP = {
     "fluid": "crater fluid (air: ideal gas)",
     "alpha": "crater aspect b/a, in (0, 1]",
@@ -65,7 +77,9 @@ HELP = {
     "specimen_radius": "specimen radius Rs [mm]",
     "specimen_height": "specimen height Hs [mm]",
     "crater_radius": "crater base radius a [mm], < Rs",
-    "load_steps": "steps of each stage, >= 1",
+    "load_steps": "initial steps of each stage (adaptive), >= 1",
+    "surface_energy": "gamma / (mu a) of the crater wall, in [0, 0.1]: regularises creasing "
+                      "(physical PDMS: 7e-5)",
 }
 COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde"]
 
@@ -84,6 +98,7 @@ class Params:
     specimen_height: float = 35.13
     crater_radius: float = 6.35
     load_steps: int = 10
+    surface_energy: float = 0.01
 
     CHOICES = {"fluid": ["air"]}
 
@@ -92,6 +107,7 @@ class Params:
         require(self.beta > 0 and math.isfinite(self.beta), f"beta must be > 0 (got {self.beta})")
         require(0 <= self.preload < 0.9, f"preload must be in [0, 0.9) (got {self.preload})")
         require(10 <= self.kappa_ratio <= 1e8, f"kappa-ratio must be in [10, 1e8] (got {self.kappa_ratio})")
+        require(0 <= self.surface_energy <= 0.1, f"surface-energy must be in [0, 0.1] (got {self.surface_energy})")
         require(self.load_steps >= 1, f"load-steps must be >= 1 (got {self.load_steps})")
         self.geometry()  # validates alpha, radii and sizes before any meshing
 
@@ -112,10 +128,14 @@ class Crater:
         msh, facets = data.mesh, data.facet_tags
         V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
         self.u = fem.Function(V, name="displacement")
-        self.ctx = Context(self.u, AxisymmetricSolid(self.u, quadrature_degree=4))
+        self.ctx = Context(self.u, AxisymmetricSolid(self.u, quadrature_degree=4, facet_tags=facets))
         material = NearlyIncompressibleNeoHookean(mu=params.beta, kappa=params.kappa_ratio * params.beta)
         self.solid = SolidStrain(material)
         self.platen = fem.Function(V.sub(1).collapse()[0])
+        gamma = params.surface_energy * params.beta * geometry.crater_radius  # gamma~ mu a
+        self.surface = SolidSurfaceEnergy(gamma, CRATER, "crater_surface_energy") if gamma > 0 else None
+        self.viscosity = Viscosity(self.u)
+        self.strain = 0.0
         self.bcs = self._bcs(V, facets)
         ds = ufl.Measure("ds", domain=msh, subdomain_data=facets, metadata={"quadrature_degree": 6})
         self.volume_density = cavity_volume_density(self.ctx.kin, ufl.FacetNormal(msh)) * ds(CRATER)
@@ -129,6 +149,17 @@ class Crater:
         self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
                       np.asarray(rmap).reshape(-1)[wall])
         self.mesh = msh
+
+    def terms(self, *fluid) -> list:
+        """The solid, the wall's surface energy (if any), the fluid, and the viscosity
+        used only while relaxing past an instability."""
+        surface = [self.surface] if self.surface is not None else []
+        return [self.solid, *surface, *fluid, self.viscosity]
+
+    def set_platen(self, strain: float) -> None:
+        """Platen displacement for the specimen strain eps = -dL/L."""
+        self.strain = strain
+        self.platen.x.array[:] = -strain * self.params.specimen_height
 
     def _bcs(self, V, facets):
         def on(sub, tag, value=None):
@@ -158,12 +189,13 @@ class Crater:
         return IdealGas()
 
     def vacuum(self):
-        """A closed crater: no air, so the ambient pressure acts alone, p_a V(u)."""
+        """A closed crater: no air, so the ambient pressure acts alone, s p_a V(u); the
+        factor s is ramped from 0 to 1 when the crater is sealed."""
         volume_density = self.volume_density
 
         class Vacuum:
             def energy(self, ctx):
-                return volume_density
+                return ctx.constant("vacuum_load", 0.0) * volume_density
 
         return Vacuum()
 
@@ -210,73 +242,82 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     t0 = time.perf_counter()
     model = Crater(params, comm)
     H = params.specimen_height
+    multipliers = ["solid_pressure", "gas_pressure"]
+    relax_stiffness = params.beta / model.geometry.crater_radius**2  # mu / a^2
+    events: list[dict] = []
+
+    set_platen = model.set_platen
+    # stage 1: vent open
     rows = [model.observe("load", 0.0)]
     vi = {"snes_type": "vinewtonrsls"}
-    loading = Problem(model.ctx, [model.solid], model.bcs, "bcfem_crater_load_", vi)
+    loading = Problem(model.ctx, model.terms(), model.bcs, "bcfem_crater_load_", vi)
     model.contact_bounds(loading)
-    reached = 0.0
-    for k in range(1, params.load_steps + 1):
-        target = params.preload * k / params.load_steps
-        reached = _step_platen(model, loading, reached, target, H)
-        rows.append(model.observe("load", reached))
-    loading.close()
+    path = LoadPath(loading, set_platen, "load", model.viscosity, relax_stiffness, multipliers, events=events)
+    path.start()
+    try:
+        path.advance(0.0, params.preload, params.preload / params.load_steps,
+                     lambda e: rows.append(model.observe("load", e)))
+    finally:
+        loading.close()
     V1 = rows[-1]["V"]
     closed = V1 <= 1e-8 * model.geometry.crater_volume  # full closure: no air left, vacuum on unloading
     if not closed:
         model.ctx.real_state("gas_pressure").x.array[:] = 1.0
-    gas = model.vacuum() if closed else model.gas(V1)
-    unloading = Problem(model.ctx, [model.solid, gas], model.bcs, "bcfem_crater_unload_", vi)
+    fluid = model.vacuum() if closed else model.gas(V1)
+
+    # stage 2: sealed, the platen retracts until its force vanishes
+    terms = model.terms(fluid)
+    unloading = Problem(model.ctx, terms, model.bcs, "bcfem_crater_unload_", vi)
     model.contact_bounds(unloading)
-    lagrangian = model.solid.energy(model.ctx) + gas.energy(model.ctx)
+    lagrangian = sum(t.energy(model.ctx) for t in terms)
     w = fem.Function(model.u.function_space)
     w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / H]))
-    platen_force = fem.form(ufl.derivative(lagrangian, model.u, w))
+    platen_force = fem.form(ufl.derivative(lagrangian, model.u, w))  # compression < 0
+    path = LoadPath(unloading, set_platen, "unload", model.viscosity, relax_stiffness, multipliers, events=events)
+    V1_gas = 0.0 if closed else V1
+    try:
+        path.start()
+        if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
+            ramp = model.ctx.constant("vacuum_load")
+            sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", model.viscosity,
+                               relax_stiffness, multipliers, events=events)
+            sealing.start()
+            sealing.advance(0.0, 1.0, 0.25)
+            path.unstable = sealing.unstable
+        path.set_load(params.preload)
+        last = {"eps": params.preload, "state": unloading.save()}
 
-    def force_at(strain):
-        model.platen.x.array[:] = -strain * H
-        if not unloading.solve():
-            raise RuntimeError(f"stage 2: no converged state at eps = {strain:.4g} (SNES reason {unloading.reason})")
-        return global_sum(platen_force)
+        def accept(strain):
+            if global_sum(platen_force) >= 0:
+                return True
+            rows.append(model.observe("unload", strain, V1_gas))
+            last.update(eps=strain, state=unloading.save())
+            return False
 
-    # retract the platen in adaptive steps until its force changes sign (compression < 0)
-    current, step = params.preload, params.preload / params.load_steps
-    state, zero_force = unloading.save(), 0.0
-    force_at(current)
-    while current > 0:
-        trial = max(0.0, current - step)
-        try:
-            force = force_at(trial)
-        except RuntimeError:
-            unloading.restore(state)
-            step *= 0.5
-            if step < params.preload * 0.5**12:
-                raise
-            continue
-        if force >= 0:
-            unloading.restore(state)
-            zero_force = brentq(force_at, trial, current, xtol=1e-12 * max(params.preload, 1e-3))
+        reached = path.advance(params.preload, 0.0, params.preload / params.load_steps, accept)
+        zero_force = reached
+        if global_sum(platen_force) >= 0 and reached != last["eps"]:
+            def force_at(strain):
+                path.advance(model.strain, strain, abs(strain - model.strain))
+                return global_sum(platen_force)
+
+            zero_force = brentq(force_at, reached, last["eps"], xtol=1e-10 * max(params.preload, 1e-3))
             force_at(zero_force)
-            break
-        rows.append(model.observe("unload", trial, 0.0 if closed else V1))
-        current, state, step = trial, unloading.save(), step * 1.5
-    if closed:
-        V1 = 0.0
-    final = model.observe("unload", zero_force, V1)
+    finally:
+        final = model.observe("unload", model.strain, V1_gas)
+        unloading.close()
     rows.append(final)
-    unloading.close()
     geometry = model.geometry
     summary = {
         "F_tilde": final["F_tilde"], "V1_over_V0": V1 / geometry.crater_volume,
         "V2_over_V0": final["V_over_V0"], "p2_over_pa": final["p_over_pa"], "A2_over_A0": final["A_over_A0"],
         "eps_at_zero_force": zero_force,
-        "gas_law_residual": final["p_over_pa"] * final["V"] / V1 - 1 if V1 else 0.0,
-        "eps_closure": params.preload if closed else None,
-        "closure_note": "this preload closes the crater (V1 = 0); the first closing preload is found by a sweep"
-        if closed else None,
-        "instabilities": [],
-        "not_modelled": "loss-of-stability detection; self-contact of the crater wall",
+        "gas_law_residual": final["p_over_pa"] * final["V"] / V1 - 1 if not closed else 0.0,
+        "eps_closure": _first_closure(rows, geometry.crater_volume),
+        "instabilities": events,
+        "surface_energy": params.surface_energy,
         "gas_permeation": permeation_estimate(1 - final["p_over_pa"], geometry.crater_radius),
-        "dofs": sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.bs
+        "dofs": sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.index_map_bs
                     for s in model.ctx.states.values()),
         "ranks": comm.size, "wall_time_s": time.perf_counter() - t0, "parameters": asdict(params),
     }
@@ -285,23 +326,10 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     return rows, summary
 
 
-def _step_platen(model, problem, start: float, target: float, H: float, cuts: int = 10) -> float:
-    """Move the platen from strain ``start`` to ``target``; a failed increment is halved and
-    retried, a converged one lets the next grow. Nothing unconverged is kept."""
-    current, step = start, target - start
-    while current < target:
-        trial = min(target, current + step)
-        model.platen.x.array[:] = -trial * H
-        if problem.solve():
-            current, step = trial, step * 1.5
-            continue
-        step *= 0.5
-        if step < (target - start) * 0.5**cuts:
-            model.platen.x.array[:] = -current * H
-            raise RuntimeError(f"stage 1: no converged state beyond eps = {current:.4g} towards "
-                               f"{target:.4g} after {cuts} cut-backs (SNES reason {problem.reason}); "
-                               "near the rim the crater wall creases at large preloads")
-    return current
+def _first_closure(rows, V0: float) -> float | None:
+    """The first accepted loading strain with V = 0 (to 1e-8 V0), or None."""
+    closed = [r["eps"] for r in rows if r["stage"] == "load" and r["V"] <= 1e-8 * V0]
+    return min(closed) if closed else None
 
 
 def permeation_estimate(pressure_drop: float, crater_radius_mm: float, unload_time_s: float = 200.0,

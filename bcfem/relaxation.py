@@ -1,0 +1,72 @@
+r"""Pseudo-time relaxation: passing an instability the way the body does, by moving
+downhill in energy at a fixed load until it settles in a stable equilibrium.
+
+Each pseudo-time step minimises the energy plus a viscous (proximal) term,
+
+.. math:: \Pi(u) + \frac{c}{2} \int |u - u_{prev}|^2 \, dV,
+
+whose Hessian c·M makes every step well posed past a limit or bifurcation point.
+The term vanishes at rest (u = u_prev) and is switched off (c = 0) for the
+final Newton solve, so an accepted state is an equilibrium of Π alone: the
+regularisation picks which stable state the body falls into, not the state.
+"""
+
+from __future__ import annotations
+
+import math
+
+import ufl
+from dolfinx import fem
+
+from bcfem.mpi import global_sum
+
+
+class Viscosity:
+    """The proximal term (c/2) ∫ |u - u_prev|² dV; c = 0 (off) unless relaxing."""
+
+    def __init__(self, u: fem.Function):
+        self.previous = fem.Function(u.function_space, name="previous_displacement")
+        self._increment = None
+
+    def energy(self, ctx):
+        c = ctx.constant("viscosity", 0.0)
+        self.c = c
+        d = ctx.u - self.previous
+        self._increment = fem.form(ctx.kin.integral(ufl.inner(d, d)))
+        return 0.5 * c * ctx.kin.integral(ufl.inner(d, d))
+
+    def increment(self) -> float:
+        """‖u - u_prev‖ over the body (L2 with the volume weight)."""
+        return math.sqrt(max(global_sum(self._increment), 0.0))
+
+
+def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
+          max_steps: int = 200) -> tuple[bool, int]:
+    """Pseudo-time steps at the current load from the current (converged) state until
+    Newton without viscosity converges.
+
+    Args:
+        stiffness: initial c (an elastic modulus over a length squared of the model).
+        rtol: the body counts as at rest once a step moves it less than rtol times
+            the largest step so far; only then is Newton without viscosity tried.
+
+    Returns:
+        (converged, steps): on failure the states are those of the last relaxed
+        step, which is *not* an equilibrium; the caller must restore or stop.
+    """
+    c, largest = stiffness, 0.0
+    for step in range(1, max_steps + 1):
+        viscosity.previous.x.array[:] = problem.ctx.u.x.array
+        viscosity.c.value = c
+        if not problem.solve():
+            c *= 4.0  # too large a pseudo-time step: more viscosity
+            continue
+        moved = viscosity.increment()
+        largest = max(largest, moved)
+        if moved <= rtol * largest:
+            viscosity.c.value = 0.0
+            if problem.solve():
+                return True, step
+        c *= 0.7
+    viscosity.c.value = 0.0
+    return False, max_steps

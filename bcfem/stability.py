@@ -1,0 +1,64 @@
+r"""Loss of stability from the inertia of the tangent (Sylvester's law).
+
+The Hessian of the Lagrangian is a saddle-point matrix: multiplier states (a
+mixed solid pressure, a gas pressure, a volume constraint) each contribute one
+negative eigenvalue when their constraint rows are independent, whatever the
+stability of the body. So the number of unstable directions of the energy
+(restricted to the constraints) is
+
+    negative eigenvalues of the tangent - number of multiplier unknowns,
+
+counted from an LDLᵀ factorisation (MUMPS, ICNTL(13) = 1 so that the count is
+global under MPI). Unknowns held at a bound of a variational inequality
+(contact) are fixed for the count: the body cannot move into the obstacle.
+Only axisymmetric modes are seen by an axisymmetric model.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from dolfinx.fem.petsc import assign
+from petsc4py import PETSc
+
+
+def unstable_modes(problem, multipliers: list[str], active_tol: float = 1e-9) -> int:
+    """Number of unstable directions at the current (converged) state of ``problem``."""
+    nlp = problem._nlp
+    x = nlp.x
+    assign(problem.states, x)
+    x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+    problem.snes.computeJacobian(x, nlp.A, None)
+    A = nlp.A.copy()
+    bounds = getattr(problem, "_bounds", ())
+    if bounds:
+        lower, upper = (b.array for b in bounds)
+        at_bound = (np.abs(x.array - lower) <= active_tol * np.maximum(1.0, np.abs(lower))) | \
+                   (np.abs(upper - x.array) <= active_tol * np.maximum(1.0, np.abs(upper)))
+        start, _ = x.getOwnershipRange()
+        rows = (np.flatnonzero(at_bound) + start).astype(PETSc.IntType)
+        A.zeroRowsColumns(rows, diag=1.0)
+    A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+    prefix = problem.prefix + "inertia_"
+    opts = PETSc.Options()
+    opts[prefix + "mat_mumps_icntl_13"] = 1  # no ScaLAPACK root: global inertia
+    opts[prefix + "mat_mumps_icntl_24"] = 1  # detect null pivots rather than fail
+    ksp = PETSc.KSP().create(A.getComm())
+    try:
+        ksp.setOptionsPrefix(prefix)
+        ksp.setType("preonly")
+        pc = ksp.getPC()
+        pc.setType("cholesky")
+        pc.setFactorSolverType("mumps")
+        ksp.setOperators(A)
+        ksp.setFromOptions()
+        ksp.setUp()
+        negative, _, _ = pc.getFactorMatrix().getInertia()
+    finally:
+        ksp.destroy()
+        A.destroy()
+        for key in ("mat_mumps_icntl_13", "mat_mumps_icntl_24"):
+            opts.delValue(prefix + key)
+    constraints = sum(problem.state(n).function_space.dofmap.index_map.size_global
+                      * problem.state(n).function_space.dofmap.index_map_bs
+                      for n in multipliers if n in problem.names)
+    return int(negative) - constraints

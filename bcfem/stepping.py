@@ -1,0 +1,121 @@
+"""Load stepping under displacement control, for paths with contact and snaps.
+
+Arc-length continuation (:mod:`bcfem.continuation`) traces smooth branches
+through folds. A contact problem's branch is not smooth: the active set
+changes and the body can lose stability to a crease or a sliding rim, after
+which it falls to another state. This stepper moves a load parameter towards
+a target in adaptive steps:
+
+* a converged step is accepted and the next one grows;
+* a failed step is halved and retried from the last accepted state;
+* after ``cuts_before_relax`` halvings the step is taken by pseudo-time
+  relaxation (:func:`bcfem.relaxation.relax`), which lets the body move
+  downhill at the new load until Newton converges on an equilibrium; this is
+  reported as a ``snap`` event;
+* after each accepted step the inertia of the tangent is checked
+  (:func:`bcfem.stability.unstable_modes`); a change in the number of
+  unstable modes is reported as an event.
+
+Nothing unconverged is ever accepted; when every retry fails the stepper
+raises with the last accepted value.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+from bcfem.relaxation import Viscosity, relax
+from bcfem.stability import unstable_modes
+
+
+class SteppingError(RuntimeError):
+    """No converged state beyond ``reached``."""
+
+    def __init__(self, message: str, reached: float):
+        super().__init__(message)
+        self.reached = reached
+
+
+@dataclass
+class LoadPath:
+    """Adaptive stepping of one load parameter of ``problem``.
+
+    Attributes:
+        problem: the Problem (its states are restored after a failed step).
+        set_load: sets the load parameter (e.g. a platen displacement).
+        stage: a label for events and messages.
+        viscosity: the problem's Viscosity term (None: no relaxation).
+        relax_stiffness: initial viscosity c of a relaxation.
+        multipliers: names of multiplier states, for the stability count.
+        cuts: halvings before giving up; cuts_before_relax: before relaxing.
+        check_stability: count unstable modes after each accepted step.
+    """
+
+    problem: object
+    set_load: Callable[[float], None]
+    stage: str
+    viscosity: Viscosity | None = None
+    relax_stiffness: float = 1.0
+    multipliers: list = field(default_factory=list)
+    cuts: int = 12
+    cuts_before_relax: int = 3
+    check_stability: bool = True
+    events: list = field(default_factory=list)
+    unstable: int = 0
+
+    def solve_at(self, value: float) -> bool:
+        self.set_load(value)
+        return self.problem.solve()
+
+    def advance(self, start: float, target: float, step: float,
+                on_accept: Callable[[float], bool | None] | None = None) -> float:
+        """Step from ``start`` to ``target`` (either direction); ``on_accept(value)`` may
+        return True to stop early. Returns the last accepted value."""
+        direction = 1.0 if target >= start else -1.0
+        current, step, cut = start, abs(step), 0
+        smallest = step * 0.5**self.cuts
+        while (target - current) * direction > 0:
+            trial = current + direction * min(step, abs(target - current))
+            ok = self.solve_at(trial)
+            snapped = False
+            if not ok and cut >= self.cuts_before_relax and self.viscosity is not None:
+                converged, steps = relax(self.problem, self.viscosity, self.relax_stiffness)
+                if converged:
+                    ok = snapped = True
+                    self.events.append({"stage": self.stage, "eps": trial, "kind": "snap",
+                                        "detail": f"passed by pseudo-time relaxation ({steps} steps)"})
+                else:
+                    self.problem.restore(self._saved)
+            if not ok:
+                step *= 0.5
+                cut += 1
+                if step < smallest:
+                    self.set_load(current)
+                    raise SteppingError(
+                        f"{self.stage}: no converged state beyond {current:.5g} towards {target:.5g} "
+                        f"after {self.cuts} cut-backs and relaxation (SNES reason {self.problem.reason})", current)
+                continue
+            current, cut = trial, 0
+            self._saved = self.problem.save()
+            if not snapped:
+                step *= 1.5
+            self._check_stability(current)
+            if on_accept is not None and on_accept(current):
+                break
+        return current
+
+    def start(self) -> None:
+        """Take the current state as the first accepted one."""
+        self._saved = self.problem.save()
+        if self.check_stability:
+            self.unstable = unstable_modes(self.problem, self.multipliers)
+
+    def _check_stability(self, value: float) -> None:
+        if not self.check_stability:
+            return
+        unstable = unstable_modes(self.problem, self.multipliers)
+        if unstable != self.unstable:
+            self.events.append({"stage": self.stage, "eps": value, "kind": "stability",
+                                "detail": f"unstable axisymmetric modes {self.unstable} -> {unstable}"})
+            self.unstable = unstable
