@@ -70,3 +70,27 @@ def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
     res = subprocess.run([str(BIN / "bcfem"), "run", "crater", *args, "--out", str(out)],
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 2 and word in res.stderr and not out.exists()
+
+
+def test_no_locking_at_kappa_over_mu_1e6():
+    """Taylor-Hood u-p: kappa/mu = 1e6 converges and differs from 1e3 and 1e4 runs by the
+    compressibility itself, O(mu/kappa): ten times less from 1e4 than from 1e3."""
+    runs = {k: crater.solve(crater.Params(preload=0.1, kappa_ratio=k, load_steps=4), MPI.COMM_WORLD)[1]
+            for k in (1e3, 1e4, 1e6)}
+    for key in ("F_tilde", "V1_over_V0", "V2_over_V0"):
+        far = abs(runs[1e3][key] / runs[1e6][key] - 1)
+        near = abs(runs[1e4][key] / runs[1e6][key] - 1)
+        assert far < 3e-3, (key, far)
+        assert near < 0.2 * far + 1e-6, (key, near, far)
+
+
+def test_mesh_convergence_at_preload_0_3():
+    """The smooth functionals of the cycle (V1, V2, p2) converge with the mesh at eps = 0.3;
+    F~ = (1 - p2) A2/A0 also carries the rim position, which is known to a node spacing."""
+    sizes = (0.12, 0.08, 0.06)
+    runs = [crater.solve(crater.Params(preload=0.3, size_crater=h), MPI.COMM_WORLD)[1] for h in sizes]
+    for key in ("V1_over_V0", "V2_over_V0", "p2_over_pa"):
+        values = [r[key] for r in runs]
+        assert abs(values[2] - values[1]) < 0.01 * abs(values[2]), (key, values)
+    F = [r["F_tilde"] for r in runs]
+    assert abs(F[2] / F[1] - 1) < 0.08, F

@@ -225,14 +225,26 @@ class Crater:
         problem.set_bounds(lower, upper)
 
     def open_radius(self) -> float:
-        """Current radius of the part of the crater wall off the plate: the edge of the
-        suction area (the rim itself while no part of the wall lies on the plate)."""
+        """Current radius of the edge of the suction area, where the crater wall leaves
+        the plate. The pressure on the wall has the vertical resultant Δp π r_edge²
+        whatever the wall's shape above (an overhang cancels), so A = π r_edge².
+        The wall lies on the plate from the rim up to some reference height; the edge
+        is the rim if only the rim is on the plate, else midway between the highest
+        node on the plate and the next node off it (known to within a node spacing)."""
         X, zdofs, rdofs = self._wall
+        a = self.geometry.crater_radius
         z = X[:, 1] + self.u.x.array[zdofs]
         r = X[:, 0] + self.u.x.array[rdofs]
-        off = z > 1e-6 * self.geometry.crater_radius
-        local = float(r[off].max()) if off.any() else 0.0
-        return self.mesh.comm.allreduce(local, op=__import__("mpi4py").MPI.MAX)
+        on = z <= 1e-6 * a
+        Z = X[:, 1]  # the reference height orders the wall from the rim (0) to the pole
+        local_on = max(zip(Z[on], r[on]), default=(-1.0, 0.0))
+        top, r_on = max(self.mesh.comm.allgather(local_on))
+        above = ~on & (Z > top)
+        local_off = min(zip(Z[above], r[above]), default=(math.inf, 0.0))
+        nearest, r_off = min(self.mesh.comm.allgather(local_off))
+        if top <= 1e-12 * a or not math.isfinite(nearest):
+            return r_on
+        return 0.5 * (r_on + r_off)
 
 
 def solve(params: Params, comm) -> tuple[list[dict], dict]:
