@@ -30,7 +30,20 @@ def test_small_preload_approaches_eshelby():
         _, summary = crater.solve(crater.Params(preload=eps, **LARGE), MPI.COMM_WORLD)
         deviations.append(abs(summary["F_tilde"] / eshelby(eps, crater.Params().beta) - 1))
         # Boyle's law holds to solver tolerance at the end of stage 2
-        assert abs(summary["gas_law_residual"]) < 1e-10
+        assert abs(summary["fluid_law_residual"]) < 1e-10
+    assert deviations[1] < deviations[0] < 0.015
+    assert deviations[1] < 0.005
+
+
+def test_liquid_small_preload_approaches_eshelby():
+    """Incompressible liquid (ch. 8): V2 = V1, and Eshelby's Delta V1 = Delta V2 gives
+    Delta p = -eps mu, so F~ = beta eps (eq. 8.6) as eps -> 0."""
+    beta = crater.Params().beta
+    deviations = []
+    for eps in (0.01, 0.003):
+        _, summary = crater.solve(crater.Params(fluid="liquid", preload=eps, **LARGE), MPI.COMM_WORLD)
+        assert abs(summary["fluid_law_residual"]) < 1e-10  # the volume constraint holds
+        deviations.append(abs(summary["F_tilde"] / (beta * eps) - 1))
     assert deviations[1] < deviations[0] < 0.015
     assert deviations[1] < 0.005
 

@@ -7,7 +7,8 @@ obeys Boyle's law p V = p_a V1, with the pressure a global unknown:
 
 .. math:: L(u, p) = \int W(F, p_s)\,dV - (p - p_a)\,V(u) + p_a V_1 \ln(p/p_a),
 
-V(u) being the current crater volume closed by the plate. The suction force is
+V(u) being the current crater volume closed by the plate. A liquid instead
+keeps its volume, V = V1 (``--fluid liquid``, ch. 8; :mod:`bcfem.fluids`). The suction force is
 F = (1 - V1/V2) p_a A2 (eq. 7.3), F~ = F/(p_a A0) (eq. 7.13).
 
 Units: pressures in p_a (so μ/p_a = β), lengths in mm. The bottom face is held
@@ -40,6 +41,7 @@ from dolfinx import fem
 from bcfem.cavity import cavity_volume_density
 from bcfem.context import Context
 from bcfem.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.fluids import FLUIDS, Vacuum
 from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, TOP, CraterGeometry, create_mesh
 from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.mpi import PointEvaluator, global_sum, real_value
@@ -68,7 +70,7 @@ mu a) on the crater wall regularises creasing; instabilities (the tangent's
 inertia) and snaps (steps passed by pseudo-time relaxation) are reported in
 summary.json. Not modelled: self-contact of the wall, non-axisymmetric modes."""
 HELP = {
-    "fluid": "crater fluid (air: ideal gas)",
+    "fluid": "crater fluid: air (ideal gas, p V = p_a V1) or liquid (incompressible, V = V1)",
     "alpha": "crater aspect b/a, in (0, 1]",
     "beta": "mu / p_a, > 0",
     "preload": "eps = -dL/L, in [0, 0.9)",
@@ -100,7 +102,7 @@ class Params:
     load_steps: int = 10
     surface_energy: float = 0.01
 
-    CHOICES = {"fluid": ["air"]}
+    CHOICES = {"fluid": list(FLUIDS)}
 
     def __post_init__(self):
         require(self.fluid in self.CHOICES["fluid"], f"fluid must be one of {self.CHOICES['fluid']} (got {self.fluid!r})")
@@ -169,41 +171,11 @@ class Crater:
 
         return [on(0, AXIS), on(1, BOTTOM), on(1, TOP, self.platen)]
 
-    def gas(self, sealed_volume: float):
-        """The ideal-gas term, sealed at ``sealed_volume`` (in p_a units, p_a = 1)."""
-        volume_density = self.volume_density
-        mesh = self.mesh
-
-        class IdealGas:
-            """-(p - 1) V(u) + V1 ln p: Boyle's law p V = V1 and the load (p - 1) on the wall."""
-
-            def energy(self, ctx):
-                p = ctx.real_state("gas_pressure")
-                amount = ctx.constant("gas_amount", sealed_volume)
-                cells = ctx.constant("domain_measure", 1.0)
-                return (-(p - 1.0) * volume_density
-                        + amount * ufl.ln(p) / cells * ufl.dx(domain=mesh))
-
-        self.ctx.constant("domain_measure").value = mesh.comm.allreduce(
-            fem.assemble_scalar(fem.form(1.0 * ufl.dx(domain=mesh))), op=__import__("mpi4py").MPI.SUM)
-        return IdealGas()
-
-    def vacuum(self):
-        """A closed crater: no air, so the ambient pressure acts alone, s p_a V(u); the
-        factor s is ramped from 0 to 1 when the crater is sealed."""
-        volume_density = self.volume_density
-
-        class Vacuum:
-            def energy(self, ctx):
-                return ctx.constant("vacuum_load", 0.0) * volume_density
-
-        return Vacuum()
-
     def observe(self, stage: str, eps: float, V1: float | None = None) -> dict:
         V0, A0 = self.geometry.crater_volume, math.pi * self.geometry.crater_radius**2
         V = global_sum(self.volume)
         A = math.pi * self.open_radius() ** 2
-        p = real_value(self.ctx.states["gas_pressure"]) if "gas_pressure" in self.ctx.states and V1 else 1.0
+        p = real_value(self.ctx.states["fluid_pressure"]) if "fluid_pressure" in self.ctx.states and V1 else 1.0
         if V1 == 0.0:
             p = 0.0  # closed crater: vacuum
         return {"stage": stage, "eps": eps, "V_over_V0": V / V0, "p_over_pa": p, "A_over_A0": A / A0,
@@ -254,7 +226,7 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     t0 = time.perf_counter()
     model = Crater(params, comm)
     H = params.specimen_height
-    multipliers = ["solid_pressure", "gas_pressure"]
+    multipliers = ["solid_pressure", "fluid_pressure"]
     relax_stiffness = params.beta / model.geometry.crater_radius**2  # mu / a^2
     events: list[dict] = []
 
@@ -274,8 +246,8 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     V1 = rows[-1]["V"]
     closed = V1 <= 1e-8 * model.geometry.crater_volume  # full closure: no air left, vacuum on unloading
     if not closed:
-        model.ctx.real_state("gas_pressure").x.array[:] = 1.0
-    fluid = model.vacuum() if closed else model.gas(V1)
+        model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
+    fluid = Vacuum(model.volume_density) if closed else FLUIDS[params.fluid](model.volume_density, V1)
 
     # stage 2: sealed, the platen retracts until its force vanishes
     terms = model.terms(fluid)
@@ -286,7 +258,7 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / H]))
     platen_force = fem.form(ufl.derivative(lagrangian, model.u, w))  # compression < 0
     path = LoadPath(unloading, set_platen, "unload", model.viscosity, relax_stiffness, multipliers, events=events)
-    V1_gas = 0.0 if closed else V1
+    V1_sealed = 0.0 if closed else V1
     try:
         path.start()
         if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
@@ -302,7 +274,7 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
         def accept(strain):
             if global_sum(platen_force) >= 0:
                 return True
-            rows.append(model.observe("unload", strain, V1_gas))
+            rows.append(model.observe("unload", strain, V1_sealed))
             last.update(eps=strain, state=unloading.save())
             return False
 
@@ -316,7 +288,7 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
             zero_force = brentq(force_at, reached, last["eps"], xtol=1e-10 * max(params.preload, 1e-3))
             force_at(zero_force)
     finally:
-        final = model.observe("unload", model.strain, V1_gas)
+        final = model.observe("unload", model.strain, V1_sealed)
         unloading.close()
     rows.append(final)
     geometry = model.geometry
@@ -324,11 +296,14 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
         "F_tilde": final["F_tilde"], "V1_over_V0": V1 / geometry.crater_volume,
         "V2_over_V0": final["V_over_V0"], "p2_over_pa": final["p_over_pa"], "A2_over_A0": final["A_over_A0"],
         "eps_at_zero_force": zero_force,
-        "gas_law_residual": final["p_over_pa"] * final["V"] / V1 - 1 if not closed else 0.0,
+        # the fluid's equation of state at the end of stage 2: p V = V1 (air), V = V1 (liquid)
+        "fluid_law_residual": 0.0 if closed else
+        (final["p_over_pa"] if params.fluid == "air" else 1.0) * final["V"] / V1 - 1,
         "eps_closure": _first_closure(rows, geometry.crater_volume),
         "instabilities": events,
         "surface_energy": params.surface_energy,
-        "gas_permeation": permeation_estimate(1 - final["p_over_pa"], geometry.crater_radius),
+        "gas_permeation": permeation_estimate(1 - final["p_over_pa"], geometry.crater_radius)
+        if params.fluid == "air" else None,
         "dofs": sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.index_map_bs
                     for s in model.ctx.states.values()),
         "ranks": comm.size, "wall_time_s": time.perf_counter() - t0, "parameters": asdict(params),

@@ -1,0 +1,86 @@
+r"""Fluids sealed in a cavity, as energy terms in the cavity's current volume V(u).
+
+Pressures are in units of the ambient pressure p_a, which acts outside. Each
+sealed fluid adds its pressure p as a global unknown (a real-space state,
+``pressure_name``); its row is the fluid's equation of state:
+
+* :class:`IdealGas`: :math:`-(p-1)V + V_1\ln p`; stationary in p: Boyle's law
+  :math:`pV = V_1` (isothermal, sealed at p = 1 and volume V1);
+* :class:`IncompressibleLiquid`: :math:`-(p-1)(V - V_1)`; stationary in p: V = V1;
+* :class:`Vacuum`: :math:`sV`: an empty cavity, the ambient pressure alone
+  (s ramps the suction on when a closed cavity is sealed).
+
+In every case the derivative in u is the pressure difference (p - 1) times
+the variation of V, a follower load linearised exactly by UFL. Constants that
+are not integrals over the body (V1 ln p, (p-1)V1) are spread over the body's
+measure so that each term is one form.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ufl
+from dolfinx import fem
+
+from bcfem.mpi import global_sum
+
+
+def _spread(ctx, value):
+    """``value`` as an integrand over the body: value / |body| dx (|body| a run-time constant)."""
+    measure = ctx.constant("body_measure", 1.0)
+    if measure.value == 1.0:
+        measure.value = global_sum(fem.form(1.0 * ufl.dx(domain=ctx.mesh)))
+    return value / measure * ufl.dx(domain=ctx.mesh)
+
+
+@dataclass(frozen=True)
+class IdealGas:
+    """Gas sealed at p = 1 in volume ``sealed_volume``: p V = V1.
+
+    Attributes:
+        volume: the cavity's current-volume form density (e.g. cavity_volume_density * ds).
+        sealed_volume: V1, the volume at sealing (> 0).
+        pressure_name: name of the pressure state.
+    """
+
+    volume: object
+    sealed_volume: float
+    pressure_name: str = "fluid_pressure"
+
+    def energy(self, ctx):
+        p = ctx.real_state(self.pressure_name)
+        amount = ctx.constant("sealed_volume", self.sealed_volume)
+        return -(p - 1.0) * self.volume + _spread(ctx, amount * ufl.ln(p))
+
+
+@dataclass(frozen=True)
+class IncompressibleLiquid:
+    """Liquid sealed in volume ``sealed_volume``: V = V1, p its multiplier (may turn negative:
+    no cavitation is modelled)."""
+
+    volume: object
+    sealed_volume: float
+    pressure_name: str = "fluid_pressure"
+
+    def energy(self, ctx):
+        p = ctx.real_state(self.pressure_name)
+        amount = ctx.constant("sealed_volume", self.sealed_volume)
+        # a zero (p - 1)^2 term puts the pressure's diagonal into the sparsity pattern,
+        # which PETSc's VI reduction and zeroRowsColumns need
+        zero = ctx.constant("liquid_pressure_diagonal", 0.0)
+        return -(p - 1.0) * self.volume + _spread(ctx, (p - 1.0) * amount + zero * (p - 1.0) ** 2)
+
+
+@dataclass(frozen=True)
+class Vacuum:
+    """An empty cavity: p = 0 inside, the ambient pressure's work s·V (s = ``vacuum_load``)."""
+
+    volume: object
+
+    def energy(self, ctx):
+        return ctx.constant("vacuum_load", 0.0) * self.volume
+
+
+#: fluid name -> sealed fluid term
+FLUIDS = {"air": IdealGas, "liquid": IncompressibleLiquid}
