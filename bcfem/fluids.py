@@ -35,8 +35,8 @@ def _spread(ctx, value):
 
 
 @dataclass(frozen=True)
-class IdealGas:
-    """Gas sealed at p = 1 in volume ``sealed_volume``: p V = V1.
+class SealedFluid:
+    """A fluid sealed at p = 1 in volume ``sealed_volume``.
 
     Attributes:
         volume: the cavity's current-volume form density (e.g. cavity_volume_density * ds).
@@ -48,24 +48,24 @@ class IdealGas:
     sealed_volume: float
     pressure_name: str = "fluid_pressure"
 
+    def unknowns(self, ctx):
+        """(pressure state, sealed volume constant)."""
+        return ctx.real_state(self.pressure_name), ctx.constant("sealed_volume", self.sealed_volume)
+
+
+class IdealGas(SealedFluid):
+    """p V = V1 (isothermal)."""
+
     def energy(self, ctx):
-        p = ctx.real_state(self.pressure_name)
-        amount = ctx.constant("sealed_volume", self.sealed_volume)
+        p, amount = self.unknowns(ctx)
         return -(p - 1.0) * self.volume + _spread(ctx, amount * ufl.ln(p))
 
 
-@dataclass(frozen=True)
-class IncompressibleLiquid:
-    """Liquid sealed in volume ``sealed_volume``: V = V1, p its multiplier (may turn negative:
-    no cavitation is modelled)."""
-
-    volume: object
-    sealed_volume: float
-    pressure_name: str = "fluid_pressure"
+class IncompressibleLiquid(SealedFluid):
+    """V = V1, p its multiplier (p may turn negative: no cavitation is modelled)."""
 
     def energy(self, ctx):
-        p = ctx.real_state(self.pressure_name)
-        amount = ctx.constant("sealed_volume", self.sealed_volume)
+        p, amount = self.unknowns(ctx)
         # a zero (p - 1)^2 term puts the pressure's diagonal into the sparsity pattern,
         # which PETSc's VI reduction and zeroRowsColumns need
         zero = ctx.constant("liquid_pressure_diagonal", 0.0)
