@@ -48,7 +48,18 @@ def _add_params(parser, params_cls, help_text: dict) -> None:
             kwargs["action"] = argparse.BooleanOptionalAction
         else:
             kwargs["type"] = _float if kind is float else kind
+        words = getattr(params_cls, "WORDS", {}).get(f.name)
+        if words:  # named values, e.g. --preload closure
+            kwargs["type"] = _words_or(words, kwargs["type"])
         parser.add_argument(flag, dest=f.name, **kwargs)
+
+
+def _words_or(words: dict, convert):
+    def parse(text: str):
+        return words[text] if text in words else convert(text)
+
+    parse.__name__ = f"{' or '.join(words)} or {convert.__name__}"
+    return parse
 
 
 def build_parser():

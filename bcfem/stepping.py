@@ -83,7 +83,7 @@ class LoadPath:
                 converged, steps = relax(self.problem, self.viscosity, self.relax_stiffness)
                 if converged:
                     ok = snapped = True
-                    self.events.append({"stage": self.stage, "eps": trial, "kind": "snap",
+                    self.events.append({"stage": self.stage, "eps": trial, "kind": "snap", "unstable": None,
                                         "detail": f"passed by pseudo-time relaxation ({steps} steps)"})
                 else:
                     self.problem.restore(self._saved)
@@ -116,6 +116,6 @@ class LoadPath:
             return
         unstable = unstable_modes(self.problem, self.multipliers)
         if unstable != self.unstable:
-            self.events.append({"stage": self.stage, "eps": value, "kind": "stability",
+            self.events.append({"stage": self.stage, "eps": value, "kind": "stability", "unstable": unstable,
                                 "detail": f"unstable axisymmetric modes {self.unstable} -> {unstable}"})
             self.unstable = unstable

@@ -61,7 +61,7 @@ def test_cycle_outputs_and_mpi(tmp_path):
         assert res.returncode == 0, res.stderr
         summaries.append(json.loads((out / "summary.json").read_text()))
         header = (out / "branch.csv").read_text().splitlines()[0].split(",")
-        assert header == ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde"]
+        assert header == ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
         assert (out / "cycle.png").stat().st_size > 10_000
     serial, parallel = summaries
     assert parallel["ranks"] == 2
@@ -77,6 +77,10 @@ def test_cycle_outputs_and_mpi(tmp_path):
     (["--crater-radius", "12.7"], "crater radius"),
     (["--preload", "0.95"], "preload"),
     (["--beta", "0"], "beta"),
+    (["--layer-thickness", "0.5"], "layer-thickness"),
+    (["--layer-thickness", "-0.1"], "layer-thickness"),
+    (["--layer-stiffness", "0"], "layer-stiffness"),
+    (["--preload", "open"], "preload"),
 ])
 def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
     out = tmp_path / "bad"

@@ -42,7 +42,7 @@ from bcfem.cavity import cavity_volume_density
 from bcfem.context import Context
 from bcfem.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.fluids import FLUIDS, Vacuum
-from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, TOP, CraterGeometry, create_mesh
+from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, LAYER, SPECIMEN, TOP, CraterGeometry, create_mesh
 from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.mpi import PointEvaluator, global_sum, real_value
 from bcfem.params import require
@@ -73,7 +73,7 @@ HELP = {
     "fluid": "crater fluid: air (ideal gas, p V = p_a V1) or liquid (incompressible, V = V1)",
     "alpha": "crater aspect b/a, in (0, 1]",
     "beta": "mu / p_a, > 0",
-    "preload": "eps = -dL/L, in [0, 0.9)",
+    "preload": "eps = -dL/L, in [0, 0.9), or closure (the smallest eps with V1 = 0, eps_m)",
     "kappa_ratio": "bulk over shear modulus, in [10, 1e8]",
     "size_crater": "element size at the crater over a, > 0",
     "specimen_radius": "specimen radius Rs [mm]",
@@ -82,8 +82,14 @@ HELP = {
     "load_steps": "initial steps of each stage (adaptive), >= 1",
     "surface_energy": "gamma / (mu a) of the crater wall, in [0, 0.1]: regularises creasing "
                       "(physical PDMS: 7e-5)",
+    "layer_thickness": "reinforcement layer lining the crater, alpha' = t / a, 0 (none) or in (0, 0.5)",
+    "layer_stiffness": "beta' = mu_layer / mu of the reinforcement, > 0",
 }
-COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde"]
+#: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
+CLOSURE = -1.0
+#: a crater with V <= CLOSED V0 counts as closed
+CLOSED = 1e-8
+COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
 
 
 @dataclass(frozen=True)
@@ -101,22 +107,31 @@ class Params:
     crater_radius: float = 6.35
     load_steps: int = 10
     surface_energy: float = 0.01
+    layer_thickness: float = 0.0
+    layer_stiffness: float = 1.0
 
     CHOICES = {"fluid": list(FLUIDS)}
+    WORDS = {"preload": {"closure": CLOSURE}}
 
     def __post_init__(self):
         require(self.fluid in self.CHOICES["fluid"], f"fluid must be one of {self.CHOICES['fluid']} (got {self.fluid!r})")
         require(self.beta > 0 and math.isfinite(self.beta), f"beta must be > 0 (got {self.beta})")
-        require(0 <= self.preload < 0.9, f"preload must be in [0, 0.9) (got {self.preload})")
+        require(self.preload == CLOSURE or 0 <= self.preload < 0.9,
+                f"preload must be in [0, 0.9) or 'closure' (got {self.preload})")
         require(10 <= self.kappa_ratio <= 1e8, f"kappa-ratio must be in [10, 1e8] (got {self.kappa_ratio})")
         require(0 <= self.surface_energy <= 0.1, f"surface-energy must be in [0, 0.1] (got {self.surface_energy})")
+        require(self.layer_thickness == 0 or 0 < self.layer_thickness < 0.5,
+                f"layer-thickness (t/a) must be 0 or in (0, 0.5) (got {self.layer_thickness})")
+        require(self.layer_stiffness > 0 and math.isfinite(self.layer_stiffness),
+                f"layer-stiffness (mu_layer/mu) must be > 0 (got {self.layer_stiffness})")
         require(self.load_steps >= 1, f"load-steps must be >= 1 (got {self.load_steps})")
         self.geometry()  # validates alpha, radii and sizes before any meshing
 
     def geometry(self) -> CraterGeometry:
         return CraterGeometry(radius=self.specimen_radius, height=self.specimen_height,
                               crater_radius=self.crater_radius, alpha=self.alpha,
-                              size_crater=self.size_crater, size_far=max(0.5, self.size_crater))
+                              size_crater=self.size_crater, size_far=max(0.5, self.size_crater),
+                              layer_thickness=self.layer_thickness * self.crater_radius)
 
 
 class Crater:
@@ -130,9 +145,17 @@ class Crater:
         msh, facets = data.mesh, data.facet_tags
         V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
         self.u = fem.Function(V, name="displacement")
-        self.ctx = Context(self.u, AxisymmetricSolid(self.u, quadrature_degree=4, facet_tags=facets))
-        material = NearlyIncompressibleNeoHookean(mu=params.beta, kappa=params.kappa_ratio * params.beta)
-        self.solid = SolidStrain(material)
+        self.ctx = Context(self.u, AxisymmetricSolid(self.u, quadrature_degree=4, cell_tags=data.cell_tags,
+                                                     facet_tags=facets))
+
+        def neo_hookean(mu):
+            return NearlyIncompressibleNeoHookean(mu=mu, kappa=params.kappa_ratio * mu)
+
+        if params.layer_thickness > 0:  # the layer is its own material region
+            self.solids = [SolidStrain(neo_hookean(params.beta), region=SPECIMEN),
+                           SolidStrain(neo_hookean(params.layer_stiffness * params.beta), region=LAYER)]
+        else:
+            self.solids = [SolidStrain(neo_hookean(params.beta))]
         self.platen = fem.Function(V.sub(1).collapse()[0])
         gamma = params.surface_energy * params.beta * geometry.crater_radius  # gamma~ mu a
         self.surface = SolidSurfaceEnergy(gamma, CRATER, "crater_surface_energy") if gamma > 0 else None
@@ -156,7 +179,7 @@ class Crater:
         """The solid, the wall's surface energy (if any), the fluid, and the viscosity
         used only while relaxing past an instability."""
         surface = [self.surface] if self.surface is not None else []
-        return [self.solid, *surface, *fluid, self.viscosity]
+        return [*self.solids, *surface, *fluid, self.viscosity]
 
     def set_platen(self, strain: float) -> None:
         """Platen displacement for the specimen strain eps = -dL/L."""
@@ -239,12 +262,19 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     path = LoadPath(loading, set_platen, "load", model.viscosity, relax_stiffness, multipliers, events=events)
     path.start()
     try:
-        path.advance(0.0, params.preload, params.preload / params.load_steps,
-                     lambda e: rows.append(model.observe("load", e)))
+        if params.preload == CLOSURE:
+            preload = _load_to_closure(model, path, rows, params)
+        else:
+            preload = params.preload
+            path.advance(0.0, preload, preload / params.load_steps, lambda e: rows.append(model.observe("load", e)))
     finally:
         loading.close()
     V1 = rows[-1]["V"]
-    closed = V1 <= 1e-8 * model.geometry.crater_volume  # full closure: no air left, vacuum on unloading
+    closed = V1 <= CLOSED * model.geometry.crater_volume  # full closure: nothing left inside
+    if closed and params.fluid == "liquid":
+        # an incompressible liquid crater that closed stays closed: V2 = V1 = 0, F = 0 (eq. 8.8)
+        final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
+        return _finish(params, model, rows, final, V1, preload, preload, events, comm, t0)
     if not closed:
         model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
     fluid = Vacuum(model.volume_density) if closed else FLUIDS[params.fluid](model.volume_density, V1)
@@ -268,8 +298,8 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
             sealing.start()
             sealing.advance(0.0, 1.0, 0.25)
             path.unstable = sealing.unstable
-        path.set_load(params.preload)
-        last = {"eps": params.preload, "state": unloading.save()}
+        path.set_load(preload)
+        last = {"eps": preload, "state": unloading.save()}
 
         def accept(strain):
             if global_sum(platen_force) >= 0:
@@ -278,28 +308,42 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
             last.update(eps=strain, state=unloading.save())
             return False
 
-        reached = path.advance(params.preload, 0.0, params.preload / params.load_steps, accept)
+        reached = path.advance(preload, 0.0, preload / params.load_steps, accept)
         zero_force = reached
         if global_sum(platen_force) >= 0 and reached != last["eps"]:
             def force_at(strain):
                 path.advance(model.strain, strain, abs(strain - model.strain))
                 return global_sum(platen_force)
 
-            zero_force = brentq(force_at, reached, last["eps"], xtol=1e-10 * max(params.preload, 1e-3))
+            zero_force = brentq(force_at, reached, last["eps"], xtol=1e-10 * max(preload, 1e-3))
             force_at(zero_force)
     finally:
         final = model.observe("unload", model.strain, V1_sealed)
         unloading.close()
+    return _finish(params, model, rows, final, V1, preload, zero_force, events, comm, t0)
+
+
+def _finish(params, model, rows, final, V1, preload, zero_force, events, comm, t0) -> tuple[list[dict], dict]:
+    """The summary of a cycle (and the last row)."""
     rows.append(final)
     geometry = model.geometry
+    closed = V1 <= CLOSED * geometry.crater_volume
+    for row in rows:
+        row["F_hat"] = row["F_tilde"] / params.beta
     summary = {
-        "F_tilde": final["F_tilde"], "V1_over_V0": V1 / geometry.crater_volume,
+        "F_tilde": final["F_tilde"], "F_hat": final["F_tilde"] / params.beta,
+        "V1_over_V0": V1 / geometry.crater_volume,
         "V2_over_V0": final["V_over_V0"], "p2_over_pa": final["p_over_pa"], "A2_over_A0": final["A_over_A0"],
-        "eps_at_zero_force": zero_force,
+        "preload": preload, "eps_at_zero_force": zero_force,
         # the fluid's equation of state at the end of stage 2: p V = V1 (air), V = V1 (liquid)
         "fluid_law_residual": 0.0 if closed else
         (final["p_over_pa"] if params.fluid == "air" else 1.0) * final["V"] / V1 - 1,
         "eps_closure": _first_closure(rows, geometry.crater_volume),
+        "eps_m": preload if params.preload == CLOSURE else None,
+        "closure_note": ("closed on loading: an incompressible liquid crater stays closed, F = 0 (eq. 8.8)"
+                         if params.fluid == "liquid" else "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)")
+        if closed else None,
+        "stability": classify(events),
         "instabilities": events,
         "surface_energy": params.surface_energy,
         "gas_permeation": permeation_estimate(1 - final["p_over_pa"], geometry.crater_radius)
@@ -313,9 +357,60 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     return rows, summary
 
 
+def classify(events) -> str:
+    """``stable``, ``unstable-unloading`` (only on unloading) or ``unstable-both`` (already on
+    loading), from the inertia events and snaps of a cycle."""
+    def unstable(event):
+        return event["kind"] == "snap" or (event["unstable"] or 0) > 0
+
+    if any(unstable(e) for e in events if e["stage"] == "load"):
+        return "unstable-both"
+    if any(unstable(e) for e in events):
+        return "unstable-unloading"
+    return "stable"
+
+
+def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisections: int = 10) -> float:
+    """Stage 1 up to the smallest preload that closes the crater, eps_m (to a 2^-bisections
+    fraction of the last step): load until V1 = 0, then bisect between the last open and
+    the first closed state."""
+    V0 = model.geometry.crater_volume
+    open_state = {"eps": 0.0, "state": path.problem.save(), "row": rows[-1]}
+
+    def accept(eps):
+        row = model.observe("load", eps)
+        if row["V"] <= CLOSED * V0:
+            rows.append(row)
+            return True
+        rows.append(row)
+        open_state.update(eps=eps, state=path.problem.save(), row=row)
+        return False
+
+    closed_at = path.advance(0.0, max_preload, max_preload / params.load_steps, accept)
+    if rows[-1]["V"] > CLOSED * V0:
+        raise SteppingError(f"load: the crater is still open at eps = {closed_at:.4g}", closed_at)
+    closed_state = path.problem.save()
+    low = open_state["eps"]
+    for _ in range(bisections):
+        mid = 0.5 * (low + closed_at)
+        path.problem.restore(open_state["state"])
+        path.set_load(low)
+        path.advance(low, mid, mid - low)
+        row = model.observe("load", mid)
+        if row["V"] <= CLOSED * V0:
+            closed_at, closed_state = mid, path.problem.save()
+            rows[-1] = row
+        else:
+            low = mid
+            open_state.update(eps=mid, state=path.problem.save())
+    path.problem.restore(closed_state)
+    path.set_load(closed_at)
+    return closed_at
+
+
 def _first_closure(rows, V0: float) -> float | None:
     """The first accepted loading strain with V = 0 (to 1e-8 V0), or None."""
-    closed = [r["eps"] for r in rows if r["stage"] == "load" and r["V"] <= 1e-8 * V0]
+    closed = [r["eps"] for r in rows if r["stage"] == "load" and r["V"] <= CLOSED * V0]
     return min(closed) if closed else None
 
 

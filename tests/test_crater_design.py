@@ -1,0 +1,63 @@
+"""The crater design space (sections 7.3-7.4, ch. 8): reinforcement layers, the closure
+preload eps_m, liquid at full closure, and the stability classification."""
+
+import pytest
+from mpi4py import MPI
+
+from bcfem.scenes import crater
+
+
+def cycle(**kwargs):
+    return crater.solve(crater.Params(**kwargs), MPI.COMM_WORLD)[1]
+
+
+@pytest.fixture(scope="module")
+def hemisphere_to_closure():
+    return cycle(preload=crater.CLOSURE)
+
+
+def test_layer_as_stiff_as_the_specimen_changes_nothing():
+    """beta' = 1: the layer is a second region of the same material on another mesh; the
+    cycle agrees with the unreinforced one to the discretisation error."""
+    plain = cycle(preload=0.2)
+    lined = cycle(preload=0.2, layer_thickness=0.1, layer_stiffness=1.0)
+    for key in ("F_tilde", "V1_over_V0", "V2_over_V0", "p2_over_pa"):
+        assert lined[key] == pytest.approx(plain[key], rel=1e-3), key
+
+
+def test_stiff_thin_layer_converges_and_strengthens():
+    """alpha' = 0.03, beta' = 30 (Fig. 7.11c's layer): the stiff lining springs back, so the
+    crater keeps more of its volume and the suction rises (here about twice)."""
+    plain = cycle(preload=0.2)
+    lined = cycle(preload=0.2, layer_thickness=0.03, layer_stiffness=30.0)
+    assert lined["V2_over_V0"] > plain["V2_over_V0"]
+    assert lined["F_tilde"] > 1.5 * plain["F_tilde"]
+
+
+def test_closure_preload_brackets_the_first_closed_state(hemisphere_to_closure):
+    """eps_m closes the crater (V1 = 0, vacuum: F = p_a A2, eq. 7.17); a preload 0.01 below
+    leaves it open."""
+    summary = hemisphere_to_closure
+    eps_m = summary["eps_m"]
+    assert 0.3 < eps_m < 0.5
+    assert summary["V1_over_V0"] <= crater.CLOSED and summary["p2_over_pa"] == 0.0
+    assert summary["F_tilde"] == pytest.approx(summary["A2_over_A0"], rel=1e-12)
+    below = cycle(preload=round(eps_m - 0.01, 4))
+    assert below["V1_over_V0"] > crater.CLOSED and below["eps_closure"] is None
+
+
+def test_stability_classification(hemisphere_to_closure):
+    """A small preload is stable throughout; closing the hemisphere passes instabilities
+    already on loading (the inertia of the tangent turns negative)."""
+    assert cycle(preload=0.1)["stability"] == "stable"
+    assert hemisphere_to_closure["stability"] == "unstable-both"
+    assert any(e["stage"] == "load" for e in hemisphere_to_closure["instabilities"])
+
+
+def test_closed_liquid_crater_gives_no_suction(hemisphere_to_closure):
+    """Eq. 8.8: a liquid crater closed on loading stays closed (V2 = V1 = 0): F_hat = 0, said
+    so; the loading (vented) is the air crater's, so eps_m is the same."""
+    summary = cycle(fluid="liquid", preload=crater.CLOSURE)
+    assert summary["eps_m"] == pytest.approx(hemisphere_to_closure["eps_m"], rel=1e-10)
+    assert summary["F_hat"] == 0.0 and summary["V2_over_V0"] <= crater.CLOSED
+    assert "eq. 8.8" in summary["closure_note"]
