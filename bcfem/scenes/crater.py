@@ -452,12 +452,20 @@ def plot(rows, summary):
 def sweep_point(params: Params, comm) -> dict:
     """One point of ``bcfem sweep crater``: the cycle's end values."""
     _, summary = solve(params, comm)
-    return {k: summary[k] for k in ("F_tilde", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
-                                    "eps_at_zero_force")}
+    point = {k: summary[k] for k in ("F_tilde", "F_hat", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
+                                     "eps_at_zero_force", "preload", "stability")}
+    point["stability_code"] = STABILITY.index(summary["stability"])  # a number for contour maps
+    return point
+
+
+#: the stability classes, in the order of ``stability_code``
+STABILITY = ["stable", "unstable-unloading", "unstable-both"]
 
 
 #: What ``bcfem sweep crater`` computes and plots (one axis: a curve per column).
 SWEEP = {"solve": sweep_point,
-         "maps": [("F_tilde", "F~"), ("V1_over_V0", "V1/V0"), ("V2_over_V0", "V2/V0"),
-                  ("p2_over_pa", "p2/p_a"), ("A2_over_A0", "A2/A0")],
+         "maps": [("F_tilde", "F~"), ("F_hat", "F^ = F/(mu A0)"), ("V1_over_V0", "V1/V0"),
+                  ("V2_over_V0", "V2/V0"), ("p2_over_pa", "p2/p_a"), ("A2_over_A0", "A2/A0"),
+                  ("preload", "eps (eps_m for --preload closure)"),
+                  ("stability_code", "0 stable, 1 unstable on unloading, 2 on loading too")],
          "title": "suction cycle"}
