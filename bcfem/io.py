@@ -46,7 +46,7 @@ def write_csv(path, rows: list[dict], comm=MPI.COMM_WORLD, columns: list[str] | 
         w = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
         w.writeheader()
         for row in rows:
-            w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in row.items()})
+            w.writerow({k: (repr(float(v)) if isinstance(v, float) else v) for k, v in row.items()})
 
     _atomic_write(Path(path), write)
 

@@ -41,7 +41,7 @@ class Viscosity:
 
 
 def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
-          max_steps: int = 200) -> tuple[bool, int]:
+          max_steps: int = 300) -> tuple[bool, int]:
     """Pseudo-time steps at the current load from the current (converged) state until
     Newton without viscosity converges.
 
@@ -63,7 +63,7 @@ def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
             continue
         moved = viscosity.increment()
         largest = max(largest, moved)
-        if moved <= rtol * largest:
+        if moved <= rtol * largest or step % 10 == 0:
             viscosity.c.value = 0.0
             if problem.solve():
                 return True, step

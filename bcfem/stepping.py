@@ -8,8 +8,9 @@ a target in adaptive steps:
 
 * a converged step is accepted and the next one grows;
 * a failed step is halved and retried from the last accepted state;
-* after ``cuts_before_relax`` halvings the step is taken by pseudo-time
-  relaxation (:func:`bcfem.relaxation.relax`), which lets the body move
+* once the step has been halved to ``2**-cuts_before_relax`` of the first one
+  (failures in a row, or Newton creeping towards a point it cannot pass), the
+  load moves a full first step on by pseudo-time relaxation (:func:`bcfem.relaxation.relax`), which lets the body move
   downhill at the new load until Newton converges on an equilibrium; this is
   reported as a ``snap`` event;
 * after each accepted step the inertia of the tangent is checked
@@ -73,13 +74,18 @@ class LoadPath:
         """Step from ``start`` to ``target`` (either direction); ``on_accept(value)`` may
         return True to stop early. Returns the last accepted value."""
         direction = 1.0 if target >= start else -1.0
-        current, step, cut = start, abs(step), 0
+        current, step = start, abs(step)
+        first = step
         smallest = step * 0.5**self.cuts
         while (target - current) * direction > 0:
             trial = current + direction * min(step, abs(target - current))
             ok = self.solve_at(trial)
             snapped = False
-            if not ok and cut >= self.cuts_before_relax and self.viscosity is not None:
+            if not ok and step < first * 0.5**self.cuts_before_relax and self.viscosity is not None:
+                # Newton creeps towards a point it cannot pass (a snap): relax at a load a
+                # full first step on, past it
+                trial = current + direction * min(first, abs(target - current))
+                self.set_load(trial)
                 converged, steps = relax(self.problem, self.viscosity, self.relax_stiffness)
                 if converged:
                     ok = snapped = True
@@ -89,14 +95,13 @@ class LoadPath:
                     self.problem.restore(self._saved)
             if not ok:
                 step *= 0.5
-                cut += 1
                 if step < smallest:
                     self.set_load(current)
                     raise SteppingError(
                         f"{self.stage}: no converged state beyond {current:.5g} towards {target:.5g} "
                         f"after {self.cuts} cut-backs and relaxation (SNES reason {self.problem.reason})", current)
                 continue
-            current, cut = trial, 0
+            current = trial
             self._saved = self.problem.save()
             if not snapped:
                 step *= 1.5

@@ -79,7 +79,8 @@ HELP = {
     "specimen_radius": "specimen radius Rs [mm]",
     "specimen_height": "specimen height Hs [mm]",
     "crater_radius": "crater base radius a [mm], < Rs",
-    "load_steps": "initial steps of each stage (adaptive), >= 1",
+    "strain_step": "platen strain between checkpoints of both stages, in (0, 0.1] (failed steps are "
+                   "halved; every run passes the same checkpoints)",
     "surface_energy": "gamma / (mu a) of the crater wall, in [0, 0.1]: regularises creasing "
                       "(physical PDMS: 7e-5)",
     "layer_thickness": "reinforcement layer lining the crater, alpha' = t / a, 0 (none) or in (0, 0.5)",
@@ -87,6 +88,8 @@ HELP = {
 }
 #: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
 CLOSURE = -1.0
+#: how far beyond its original height the platen may lift looking for zero force
+MAX_LIFT = 0.1
 #: a crater with V <= CLOSED V0 counts as closed
 CLOSED = 1e-8
 COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
@@ -105,7 +108,7 @@ class Params:
     specimen_radius: float = 12.70
     specimen_height: float = 35.13
     crater_radius: float = 6.35
-    load_steps: int = 10
+    strain_step: float = 0.0125
     surface_energy: float = 0.01
     layer_thickness: float = 0.0
     layer_stiffness: float = 1.0
@@ -124,7 +127,7 @@ class Params:
                 f"layer-thickness (t/a) must be 0 or in (0, 0.5) (got {self.layer_thickness})")
         require(self.layer_stiffness > 0 and math.isfinite(self.layer_stiffness),
                 f"layer-stiffness (mu_layer/mu) must be > 0 (got {self.layer_stiffness})")
-        require(self.load_steps >= 1, f"load-steps must be >= 1 (got {self.load_steps})")
+        require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
         self.geometry()  # validates alpha, radii and sizes before any meshing
 
     def geometry(self) -> CraterGeometry:
@@ -266,7 +269,7 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
             preload = _load_to_closure(model, path, rows, params)
         else:
             preload = params.preload
-            path.advance(0.0, preload, preload / params.load_steps, lambda e: rows.append(model.observe("load", e)))
+            _through(path, 0.0, preload, params.strain_step, lambda e: rows.append(model.observe("load", e)))
     finally:
         loading.close()
     V1 = rows[-1]["V"]
@@ -296,7 +299,10 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
             sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", model.viscosity,
                                relax_stiffness, multipliers, events=events)
             sealing.start()
+            first = len(events)
             sealing.advance(0.0, 1.0, 0.25)
+            for event in events[first:]:  # report the platen strain; the ramp value goes in the detail
+                event.update(detail=f"{event['detail']} (vacuum ramp at {event['eps']:.3g})", eps=preload)
             path.unstable = sealing.unstable
         path.set_load(preload)
         last = {"eps": preload, "state": unloading.save()}
@@ -308,11 +314,20 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
             last.update(eps=strain, state=unloading.save())
             return False
 
-        reached = path.advance(preload, 0.0, preload / params.load_steps, accept)
+        # past a snap the specimen can still push at eps = 0: the platen then lifts further
+        reached = _through(path, preload, -MAX_LIFT, params.strain_step, accept)
+        if global_sum(platen_force) < 0:
+            raise SteppingError(f"unload: the platen force is still compressive at eps = {reached:.4g}", reached)
+        if reached < 0:
+            events.append({"stage": "unload", "eps": reached, "kind": "lift", "unstable": None,
+                           "detail": "zero platen force only beyond the specimen's original height"})
         zero_force = reached
-        if global_sum(platen_force) >= 0 and reached != last["eps"]:
+        if reached != last["eps"]:
             def force_at(strain):
-                path.advance(model.strain, strain, abs(strain - model.strain))
+                # always from the last state before the zero: no hysteresis between evaluations
+                unloading.restore(last["state"])
+                path.set_load(last["eps"])
+                path.advance(last["eps"], strain, abs(strain - last["eps"]))
                 return global_sum(platen_force)
 
             zero_force = brentq(force_at, reached, last["eps"], xtol=1e-10 * max(preload, 1e-3))
@@ -321,6 +336,26 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
         final = model.observe("unload", model.strain, V1_sealed)
         unloading.close()
     return _finish(params, model, rows, final, V1, preload, zero_force, events, comm, t0)
+
+
+def _through(path, start: float, end: float, step: float, on_accept) -> float:
+    """Advance from ``start`` to ``end`` through the checkpoints k * step, so that every run
+    passes the same load states whatever its final preload (sweep points share one path).
+    Stops early when ``on_accept`` returns True; returns the last accepted value."""
+    sign = 1.0 if end >= start else -1.0
+    k = math.floor(start / step + 1e-9) + 1 if sign > 0 else math.ceil(start / step - 1e-9) - 1
+    current, stopped = start, [False]
+
+    def accept(value):
+        stopped[0] = bool(on_accept(value)) if on_accept else False
+        return stopped[0]
+
+    while (end - current) * sign > 1e-12 and not stopped[0]:
+        checkpoint = k * step
+        target = checkpoint if (end - checkpoint) * sign > 1e-12 else end
+        current = path.advance(current, target, abs(target - current), accept)
+        k += int(sign)
+    return current
 
 
 def _finish(params, model, rows, final, V1, preload, zero_force, events, comm, t0) -> tuple[list[dict], dict]:
@@ -386,7 +421,7 @@ def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisec
         open_state.update(eps=eps, state=path.problem.save(), row=row)
         return False
 
-    closed_at = path.advance(0.0, max_preload, max_preload / params.load_steps, accept)
+    closed_at = _through(path, 0.0, max_preload, params.strain_step, accept)
     if rows[-1]["V"] > CLOSED * V0:
         raise SteppingError(f"load: the crater is still open at eps = {closed_at:.4g}", closed_at)
     closed_state = path.problem.save()
