@@ -22,6 +22,7 @@ bench: venv
 	$(BIN)/python benchmarks/blister_rigid.py
 	$(BIN)/python benchmarks/blister_edges.py
 	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/newtonal_vs_bordered.py
+	$(BIN)/python benchmarks/crater_air.py
 
 # the dissertation's figures, reproduced by the demos: docs/figures/<demo>/
 report: venv

@@ -60,6 +60,8 @@ def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
         viscosity.c.value = c
         if not problem.solve():
             c *= 4.0  # too large a pseudo-time step: more viscosity
+            if c > 1e6 * stiffness:  # not even a tiny step is solvable: give up
+                break
             continue
         moved = viscosity.increment()
         largest = max(largest, moved)
@@ -69,4 +71,4 @@ def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
                 return True, step
         c *= 0.7
     viscosity.c.value = 0.0
-    return False, max_steps
+    return False, step

@@ -50,6 +50,8 @@ class LoadPath:
         relax_stiffness: initial viscosity c of a relaxation.
         multipliers: names of multiplier states, for the stability count.
         cuts: halvings before giving up; cuts_before_relax: before relaxing.
+        max_snaps: relaxations allowed along the path (a crease that keeps deepening
+            without self-contact would otherwise snap again at every step).
         check_stability: count unstable modes after each accepted step.
     """
 
@@ -62,6 +64,7 @@ class LoadPath:
     cuts: int = 12
     cuts_before_relax: int = 3
     check_stability: bool = True
+    max_snaps: int = 6
     events: list = field(default_factory=list)
     unstable: int = 0
 
@@ -89,6 +92,10 @@ class LoadPath:
                 converged, steps = relax(self.problem, self.viscosity, self.relax_stiffness)
                 if converged:
                     ok = snapped = True
+                    self._snaps = getattr(self, "_snaps", 0) + 1
+                    if self._snaps > self.max_snaps:
+                        raise SteppingError(f"{self.stage}: more than {self.max_snaps} snaps (the path keeps "
+                                            f"losing stability, e.g. a deepening crease) at {trial:.5g}", current)
                     self.events.append({"stage": self.stage, "eps": trial, "kind": "snap", "unstable": None,
                                         "detail": f"passed by pseudo-time relaxation ({steps} steps)"})
                 else:
