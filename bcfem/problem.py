@@ -141,13 +141,18 @@ class Problem:
         vec.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         assign(vec, list(functions))
 
-    def solve_jacobian(self, rhs: PETSc.Vec) -> PETSc.Vec:
-        """Solve J(x) y = rhs with the Jacobian assembled at the current states."""
+    def jacobian(self) -> tuple[PETSc.Mat, PETSc.Vec]:
+        """(J, x): the Jacobian assembled at the current states, and those states as a vector
+        (both owned by the problem: copy before changing them)."""
         x = self._nlp.x
         assign(self.states, x)
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-        A = self._nlp.A
-        self.snes.computeJacobian(x, A, None)
+        self.snes.computeJacobian(x, self._nlp.A, None)
+        return self._nlp.A, x
+
+    def solve_jacobian(self, rhs: PETSc.Vec) -> PETSc.Vec:
+        """Solve J(x) y = rhs with the Jacobian assembled at the current states."""
+        A, _ = self.jacobian()
         if self._tangent_ksp is None:
             ksp = PETSc.KSP().create(self.comm)
             ksp.setOptionsPrefix(self.prefix + "tangent_")

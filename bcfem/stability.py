@@ -17,18 +17,13 @@ Only axisymmetric modes are seen by an axisymmetric model.
 from __future__ import annotations
 
 import numpy as np
-from dolfinx.fem.petsc import assign
 from petsc4py import PETSc
 
 
 def unstable_modes(problem, multipliers: list[str], active_tol: float = 1e-9) -> int:
     """Number of unstable directions at the current (converged) state of ``problem``."""
-    nlp = problem._nlp
-    x = nlp.x
-    assign(problem.states, x)
-    x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-    problem.snes.computeJacobian(x, nlp.A, None)
-    A = nlp.A.copy()
+    jacobian, x = problem.jacobian()
+    A = jacobian.copy()
     bounds = getattr(problem, "_bounds", ())
     if bounds:
         lower, upper = (b.array for b in bounds)

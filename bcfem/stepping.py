@@ -67,6 +67,7 @@ class LoadPath:
     max_snaps: int = 6
     events: list = field(default_factory=list)
     unstable: int = 0
+    snaps: int = 0
 
     def solve_at(self, value: float) -> bool:
         self.set_load(value)
@@ -92,8 +93,8 @@ class LoadPath:
                 converged, steps = relax(self.problem, self.viscosity, self.relax_stiffness)
                 if converged:
                     ok = snapped = True
-                    self._snaps = getattr(self, "_snaps", 0) + 1
-                    if self._snaps > self.max_snaps:
+                    self.snaps += 1
+                    if self.snaps > self.max_snaps:
                         raise SteppingError(f"{self.stage}: more than {self.max_snaps} snaps (the path keeps "
                                             f"losing stability, e.g. a deepening crease) at {trial:.5g}", current)
                     self.events.append({"stage": self.stage, "eps": trial, "kind": "snap", "unstable": None,
