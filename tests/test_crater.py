@@ -87,6 +87,8 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
     (["--layer-thickness", "-0.1"], "layer-thickness"),
     (["--layer-stiffness", "0"], "layer-stiffness"),
     (["--preload", "open"], "preload"),
+    (["--strain-step", "0"], "strain-step"),
+    (["--surface-energy", "0.5"], "surface-energy"),
 ])
 def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
     out = tmp_path / "bad"
