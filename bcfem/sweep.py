@@ -4,7 +4,8 @@ Each rank solves its share of the points on its own communicator
 (``comm.Split`` by rank, so every point is a serial solve and the map does not
 depend on the number of ranks). Every finished point is written at once to
 ``points/<key>.json`` (atomically), so a rerun skips it; a failed point is
-recorded with its reason, never dropped. Rank 0 then gathers ``sweep.csv``.
+recorded with its reason, never dropped. Rank 0 then gathers ``sweep.csv`` and, if
+it solved anything, ``timing.json`` (points solved and reused, ranks, wall time).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import dataclasses
 import itertools
 import json
 import logging
+import time
 import traceback
 from pathlib import Path
 
@@ -74,6 +76,7 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD) -> list[dict]:
     Args:
         solve_point: ``solve_point(params, comm) -> dict`` of results for one point.
     """
+    t0 = time.perf_counter()
     out = Path(out)
     point_dir = out / "points"
     if comm.rank == 0:
@@ -110,6 +113,12 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD) -> list[dict]:
             rows.append(json.loads((point_dir / f"{point_key(values, params)}.json").read_text()))
         columns = sorted({k for r in rows for k in r}, key=lambda k: (k in ("status", "reason"), k))
         io.write_csv(out / "sweep.csv", rows, comm, columns)
+        if total_done:  # a rerun that solved nothing keeps the timing of the run that did
+            wall = time.perf_counter() - t0
+            io.write_json(out / "timing.json", {
+                "solved": total_done, "reused": total_skipped, "failed": sum(r["status"] != "ok" for r in rows),
+                "ranks": comm.size, "wall_time_s": wall, "core_seconds_per_solved_point": wall * comm.size / total_done},
+                comm)
     logger.info(f"sweep: {total_done} points solved, {total_skipped} reused, "
                 f"{sum(r['status'] != 'ok' for r in rows)} failed -> {out / 'sweep.csv'}")
     return comm.bcast(rows, root=0)

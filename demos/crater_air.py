@@ -66,14 +66,13 @@ import json
 import math
 import time
 from dataclasses import asdict
-from unittest import mock
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 import numpy as np
 from mpi4py import MPI
 
 from bcfem import demo, io, sweep
-from bcfem.scenes import crater
+from bcfem.scenes import crater, crater_frames
 
 # %% [markdown]
 # ## Parameters
@@ -199,52 +198,17 @@ if zero_force_missed:
 # ## One cycle's deformed shapes (Fig. 7.5b)
 #
 # The cycle at $\varepsilon = 0.3$ is solved again on rank 0 alone
-# (`MPI.COMM_SELF`), with the scene's model class replaced by a subclass that
+# (`MPI.COMM_SELF`) with `bcfem.scenes.crater_frames.Recorder`, a model that
 # keeps a copy of the displacement at every state the solve observes (every
 # accepted loading and unloading step and the final zero-force state). The
 # solve itself is unchanged. The P2 displacement is interpolated onto P1 to
 # deform the vertex mesh; the crater wall is drawn from its P2 nodes.
 
 # %%
-class Recording(crater.Crater):
-    """``crater.Crater`` that keeps (row, P1 displacement, wall nodes) of every observed state."""
-
-    instances: list = []
-
-    def __init__(self, params, comm):
-        from dolfinx import fem
-
-        super().__init__(params, comm)
-        V1 = fem.functionspace(self.mesh, ("Lagrange", 1, (2,)))
-        self.u1 = fem.Function(V1)
-        self.vertices = V1.tabulate_dof_coordinates()[:, :2]
-        self.triangles = V1.dofmap.list.copy()
-        g = self.geometry
-        X = self.u.function_space.tabulate_dof_coordinates()[:, :2]
-        centre = g.crater_height - g.sphere_radius
-        on_wall = (np.abs(np.hypot(X[:, 0], X[:, 1] - centre) - g.sphere_radius) < 1e-6 * g.crater_radius) \
-            & (X[:, 1] >= -1e-9)
-        order = np.argsort(np.arctan2(X[on_wall, 1] - centre, X[on_wall, 0]))  # from the rim to the pole
-        self.wall_nodes = np.flatnonzero(on_wall)[order]
-        self.wall_X = X[self.wall_nodes]
-        self.states = []
-        Recording.instances.append(self)
-
-    def observe(self, stage, eps, V1=None):
-        row = super().observe(stage, eps, V1)
-        self.u1.interpolate(self.u)
-        u = self.u.x.array.reshape(-1, 2)
-        self.states.append({**{k: float(v) for k, v in row.items() if k != "stage"}, "stage": stage,
-                            "u1": self.u1.x.array.reshape(-1, 2).copy(), "wall": self.wall_X + u[self.wall_nodes]})
-        return row
-
-
 shape = None
 t0 = time.perf_counter()
 if comm.rank == 0:
-    with mock.patch.object(crater, "Crater", Recording):
-        _, shape_summary = crater.solve(crater.Params(**{**asdict(BASE), "preload": SHAPE_PRELOAD}), MPI.COMM_SELF)
-    shape = Recording.instances[-1]
+    shape_summary, shape = crater_frames.record(crater.Params(**{**asdict(BASE), "preload": SHAPE_PRELOAD}))
     report(f"cycle at eps = {SHAPE_PRELOAD}: {len(shape.states)} states, F~ = {shape_summary['F_tilde']:.4f} "
            f"({time.perf_counter() - t0:.0f} s)")
 t_shape = time.perf_counter() - t0
@@ -350,8 +314,6 @@ def marks(ax, key_of, with_labels):
 
 
 if comm.rank == 0:
-    import matplotlib.tri as mtri
-
     from bcfem.plots import pyplot
 
     plt = pyplot()
@@ -418,37 +380,24 @@ if comm.rank == 0:
     plt.close(fig)
 
     # Fig. 7.5b
-    def nearest(states, target):
-        return min(states, key=lambda s: abs(s["eps"] - target))
-
     loading = [s for s in shape.states if s["stage"] == "load"]
     unloading = [s for s in shape.states if s["stage"] == "unload"]
     targets = np.linspace(SHAPE_PRELOAD, unloading[-1]["eps"], SHAPE_PANELS_UNLOAD)
-    drawn = [[nearest(loading, e) for e in SHAPE_LOAD],
-             [loading[-1]] + [nearest(unloading, e) for e in targets[1:-1]] + [unloading[-1]]]
+    drawn = [[crater_frames.nearest(shape.states, "load", e) for e in SHAPE_LOAD],
+             [loading[-1]] + [crater_frames.nearest(shape.states, "unload", e) for e in targets[1:-1]]
+             + [unloading[-1]]]
     ncol = max(len(r) for r in drawn)
     fig, axes = plt.subplots(2, ncol, figsize=(3.0 * ncol, 6.8), sharex=True, sharey=True)
     for i, (states, name) in enumerate(zip(drawn, ("loading, vent open", "unloading, sealed"))):
         for j, s in enumerate(states):
             ax = axes[i, j]
-            xy = shape.vertices + s["u1"]
-            tri = mtri.Triangulation(xy[:, 0], xy[:, 1], shape.triangles)
-            ax.tripcolor(tri, facecolors=np.ones(len(shape.triangles)), cmap="Greys", vmin=0, vmax=8)
-            ax.triplot(tri, color="0.55", lw=0.25)
-            ax.plot(shape.wall_X[:, 0], shape.wall_X[:, 1], ":", color="0.2", lw=0.9)
-            ax.plot(s["wall"][:, 0], s["wall"][:, 1], "-", color="C0", lw=1.8)
-            ax.axhline(0, color="k", lw=1.5)
-            ax.set_xlim(0, 10)
-            ax.set_ylim(-0.5, 10)
-            ax.set_aspect("equal")
-            ax.set_xticks([0, 5, 10])
             text = f"$\\varepsilon$ = {s['eps']:.3f}\n$V/V_0$ = {s['V_over_V0']:.3f}"
             if i == 1:
                 text += f"\n$p/p_a$ = {s['p_over_pa']:.3f}"
             if i == 1 and j == len(states) - 1:
                 text += f"\nzero force: $\\tilde F$ = {s['F_tilde']:.3f}"
-            ax.text(0.97, 0.97, text, transform=ax.transAxes, ha="right", va="top", fontsize=7.5,
-                    bbox=dict(fc="white", ec="none", alpha=0.9, pad=1.5))
+            crater_frames.draw(ax, shape, s, extent=10.0, text=text)
+            ax.set_xticks([0, 5, 10])
             if j == 0:
                 ax.set_ylabel(f"{name}\nz [mm]")
             if i == 1:

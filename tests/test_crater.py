@@ -2,17 +2,13 @@
 
 import json
 import math
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 from mpi4py import MPI
 
 from bcfem.scenes import crater
+from helpers import bcfem
 
-BIN = Path(sys.executable).parent
 LARGE = dict(specimen_radius=63.5, specimen_height=127.0,
              surface_energy=0.0)  # ~ the infinite body of Eshelby, no surface energy
 
@@ -52,14 +48,10 @@ def test_liquid_small_preload_approaches_eshelby():
                          ids=["air", "liquid-layer"])
 def test_cycle_outputs_and_mpi(tmp_path, variant):
     args = ["run", "crater", "--preload", "0.08", "--strain-step", "0.02", "--quiet", *variant]
-    env = {**os.environ, "PATH": f"{BIN}:{os.environ['PATH']}"}
     summaries = []
     for ranks in (1, 2):
         out = tmp_path / f"n{ranks}"
-        cmd = [str(BIN / "bcfem"), *args, "--out", str(out)]
-        if ranks > 1:
-            cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
-        res = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=600)
+        res = bcfem(*args, "--out", out, ranks=ranks)
         assert res.returncode == 0, res.stderr
         summaries.append(json.loads((out / "summary.json").read_text()))
         header = (out / "branch.csv").read_text().splitlines()[0].split(",")
@@ -92,8 +84,7 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
 ])
 def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
     out = tmp_path / "bad"
-    res = subprocess.run([str(BIN / "bcfem"), "run", "crater", *args, "--out", str(out)],
-                         capture_output=True, text=True, timeout=120)
+    res = bcfem("run", "crater", *args, "--out", out, timeout=120)
     assert res.returncode == 2 and word in res.stderr and not out.exists()
 
 

@@ -5,6 +5,7 @@ import pytest
 from mpi4py import MPI
 
 from bcfem.scenes import crater
+from helpers import bcfem
 
 
 def cycle(**kwargs):
@@ -35,15 +36,33 @@ def test_stiff_thin_layer_converges_and_strengthens():
 
 
 def test_closure_preload_brackets_the_first_closed_state(hemisphere_to_closure):
-    """eps_m closes the crater (V1 = 0, vacuum: F = p_a A2, eq. 7.17); a preload 0.01 below
-    leaves it open."""
+    """eps_m closes the crater (V1 <= CLOSURE_VOLUME V0; stage 2 has a vacuum inside:
+    F = p_a A2, eq. 7.17, and says so); a preload 0.01 below leaves it open."""
     summary = hemisphere_to_closure
     eps_m = summary["eps_m"]
     assert 0.3 < eps_m < 0.5
-    assert summary["V1_over_V0"] <= crater.CLOSED and summary["p2_over_pa"] == 0.0
+    assert summary["V1_over_V0"] <= crater.CLOSURE_VOLUME and summary["p2_over_pa"] == 0.0
     assert summary["F_tilde"] == pytest.approx(summary["A2_over_A0"], rel=1e-12)
+    assert "eq. 7.17" in summary["closure_note"]
     below = cycle(preload=round(eps_m - 0.01, 4))
-    assert below["V1_over_V0"] > crater.CLOSED and below["eps_closure"] is None
+    assert below["V1_over_V0"] > crater.CLOSURE_VOLUME and below["closure_note"] is None
+    assert abs(below["fluid_law_residual"]) < 1e-8
+
+
+def test_sweep_is_rank_count_invariant(tmp_path):
+    """`bcfem sweep crater` gives the same CSV on 1 and 2 ranks (each point is a serial
+    cycle); the stability class is part of it."""
+    grid = ["sweep", "crater", "--grid", "alpha=0.5,1", "--grid", "layer_stiffness=1,10", "--layer-thickness",
+            "0.05", "--preload", "0.05", "--size-crater", "0.12", "--quiet"]
+    csv = {}
+    for ranks in (1, 2):
+        out = tmp_path / f"np{ranks}"
+        res = bcfem(*grid, "--out", out, ranks=ranks)
+        assert res.returncode == 0, res.stderr
+        csv[ranks] = (out / "sweep.csv").read_text()
+    assert csv[1] == csv[2]
+    lines = csv[1].splitlines()
+    assert len(lines) == 5 and "failed" not in csv[1] and "stability" in lines[0]
 
 
 def test_stability_classification(hemisphere_to_closure):
@@ -59,5 +78,5 @@ def test_closed_liquid_crater_gives_no_suction(hemisphere_to_closure):
     so; the loading (vented) is the air crater's, so eps_m is the same."""
     summary = cycle(fluid="liquid", preload=crater.CLOSURE)
     assert summary["eps_m"] == pytest.approx(hemisphere_to_closure["eps_m"], rel=1e-10)
-    assert summary["F_hat"] == 0.0 and summary["V2_over_V0"] <= crater.CLOSED
+    assert summary["F_hat"] == 0.0 and summary["V2_over_V0"] <= crater.CLOSURE_VOLUME
     assert "eq. 8.8" in summary["closure_note"]

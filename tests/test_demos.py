@@ -30,6 +30,8 @@ EXPECTED = {
     "blister_slippery.py": ["slippery_fig3_18.png", "slippery_fig3_19.png", "slippery_fig3_20.png",
                             "branches.csv", "profiles_V1.5.csv", "summary.json"],
     "crater_air.py": ["fig7_6.png", "fig7_7a.png", "fig7_5b.png", "crater_air.csv", "summary.json"],
+    "crater_design.py": ["fig7_9.png", "fig7_10.png", "fig7_11.png", "fig8_4.png", "fig8_6_8_7.png",
+                         "crater_design.csv", "summary.json"],
 }
 TIMEOUT = 600  # [s]; a deadlock at exit shows up as a timeout, not a hang
 

@@ -1,27 +1,15 @@
 """Sweeps (rank-count invariant, resumable, failures kept) and the inverse fit."""
 
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 from mpi4py import MPI
 
 from bcfem import sweep
 from bcfem.scenes import blister_rigid, blister_studies
+from helpers import bcfem
 
-BIN = Path(sys.executable).parent
 GRID = ["sweep", "blister-rigid", "--grid", "alpha=0:2:2", "--grid", "adhesion=1:4:2",
         "--material", "gent", "--v-max", "20", "--cells", "30", "--quiet"]
-
-
-def bcfem(*args, ranks=1):
-    cmd = [str(BIN / "bcfem"), *args]
-    if ranks > 1:
-        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
-    env = {**os.environ, "PATH": f"{BIN}:{os.environ['PATH']}"}
-    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=600)
 
 
 def test_sweep_is_rank_count_invariant_and_resumable(tmp_path):

@@ -90,8 +90,10 @@ HELP = {
 CLOSURE = -1.0
 #: how far beyond its original height the platen may lift looking for zero force
 MAX_LIFT = 0.1
-#: a crater with V <= CLOSED V0 counts as closed
+#: a crater with V <= CLOSED V0 counts as closed (vacuum inside)
 CLOSED = 1e-8
+#: ``--preload closure`` stops at V1 <= CLOSURE_VOLUME V0
+CLOSURE_VOLUME = 1e-3
 COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
 
 
@@ -177,6 +179,7 @@ class Crater:
         self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
                       np.asarray(rmap).reshape(-1)[wall])
         self.mesh = msh
+        self.cell_tags = data.cell_tags
 
     def terms(self, *fluid) -> list:
         """The solid, the wall's surface energy (if any), the fluid, and the viscosity
@@ -245,12 +248,17 @@ class Crater:
         return 0.5 * (r_on + r_off)
 
 
-def solve(params: Params, comm) -> tuple[list[dict], dict]:
-    """Run both stages; returns (rows, summary)."""
+def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[list[dict], dict]:
+    """Run both stages; returns (rows, summary).
+
+    Args:
+        model_class: ``Crater`` or a subclass (e.g. one that records the deformed states,
+            :mod:`bcfem.scenes.crater_frames`); the cycle itself is the same.
+    """
     from scipy.optimize import brentq
 
     t0 = time.perf_counter()
-    model = Crater(params, comm)
+    model = model_class(params, comm)
     H = params.specimen_height
     multipliers = ["solid_pressure", "fluid_pressure"]
     relax_stiffness = params.beta / model.geometry.crater_radius**2  # mu / a^2
@@ -273,11 +281,12 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     finally:
         loading.close()
     V1 = rows[-1]["V"]
-    closed = V1 <= CLOSED * model.geometry.crater_volume  # full closure: nothing left inside
+    # full closure: nothing left inside (closure mode neglects a trapped remnant <= CLOSURE_VOLUME V0)
+    closed = V1 <= CLOSED * model.geometry.crater_volume or params.preload == CLOSURE
     if closed and params.fluid == "liquid":
         # an incompressible liquid crater that closed stays closed: V2 = V1 = 0, F = 0 (eq. 8.8)
         final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
-        return _finish(params, model, rows, final, V1, preload, preload, events, comm, t0)
+        return _finish(params, model, rows, final, V1, closed, preload, preload, events, comm, t0)
     if not closed:
         model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
     fluid = Vacuum(model.volume_density) if closed else FLUIDS[params.fluid](model.volume_density, V1)
@@ -335,7 +344,7 @@ def solve(params: Params, comm) -> tuple[list[dict], dict]:
     finally:
         final = model.observe("unload", model.strain, V1_sealed)
         unloading.close()
-    return _finish(params, model, rows, final, V1, preload, zero_force, events, comm, t0)
+    return _finish(params, model, rows, final, V1, closed, preload, zero_force, events, comm, t0)
 
 
 def _through(path, start: float, end: float, step: float, on_accept) -> float:
@@ -358,11 +367,10 @@ def _through(path, start: float, end: float, step: float, on_accept) -> float:
     return current
 
 
-def _finish(params, model, rows, final, V1, preload, zero_force, events, comm, t0) -> tuple[list[dict], dict]:
+def _finish(params, model, rows, final, V1, closed, preload, zero_force, events, comm, t0) -> tuple[list[dict], dict]:
     """The summary of a cycle (and the last row)."""
     rows.append(final)
     geometry = model.geometry
-    closed = V1 <= CLOSED * geometry.crater_volume
     for row in rows:
         row["F_hat"] = row["F_tilde"] / params.beta
     summary = {
@@ -375,9 +383,11 @@ def _finish(params, model, rows, final, V1, preload, zero_force, events, comm, t
         (final["p_over_pa"] if params.fluid == "air" else 1.0) * final["V"] / V1 - 1,
         "eps_closure": _first_closure(rows, geometry.crater_volume),
         "eps_m": preload if params.preload == CLOSURE else None,
-        "closure_note": ("closed on loading: an incompressible liquid crater stays closed, F = 0 (eq. 8.8)"
-                         if params.fluid == "liquid" else "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)")
-        if closed else None,
+        "closure_note": None if not closed else (
+            "closed on loading: an incompressible liquid crater stays closed, F = 0 (eq. 8.8)"
+            if params.fluid == "liquid" else "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)")
+        + (f"; a trapped remnant V1 = {V1 / geometry.crater_volume:.2g} V0 is neglected"
+           if V1 > CLOSED * geometry.crater_volume else ""),
         "stability": classify(events),
         "instabilities": events,
         "surface_energy": params.surface_energy,
@@ -407,22 +417,27 @@ def classify(events) -> str:
 
 def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisections: int = 10) -> float:
     """Stage 1 up to the smallest preload that closes the crater, eps_m (to a 2^-bisections
-    fraction of the last step): load until V1 = 0, then bisect between the last open and
-    the first closed state."""
+    fraction of the last step): load until the crater is closed, then bisect between the
+    last open and the first closed state. Closed: V1 <= ``CLOSURE_VOLUME`` V0 (a wall that
+    folds onto the plate can trap a tiny pocket that never closes; stage 2 neglects it,
+    which changes F by at most V1/V2)."""
     V0 = model.geometry.crater_volume
+
+    def closed(row) -> bool:
+        return row["V"] <= CLOSURE_VOLUME * V0
+
     open_state = {"eps": 0.0, "state": path.problem.save(), "row": rows[-1]}
 
     def accept(eps):
         row = model.observe("load", eps)
-        if row["V"] <= CLOSED * V0:
-            rows.append(row)
-            return True
         rows.append(row)
+        if closed(row):
+            return True
         open_state.update(eps=eps, state=path.problem.save(), row=row)
         return False
 
     closed_at = _through(path, 0.0, max_preload, params.strain_step, accept)
-    if rows[-1]["V"] > CLOSED * V0:
+    if not closed(rows[-1]):
         raise SteppingError(f"load: the crater is still open at eps = {closed_at:.4g}", closed_at)
     closed_state = path.problem.save()
     low = open_state["eps"]
@@ -432,7 +447,7 @@ def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisec
         path.set_load(low)
         path.advance(low, mid, mid - low)
         row = model.observe("load", mid)
-        if row["V"] <= CLOSED * V0:
+        if closed(row):
             closed_at, closed_state = mid, path.problem.save()
             rows[-1] = row
         else:

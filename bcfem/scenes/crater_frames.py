@@ -1,0 +1,86 @@
+"""Deformed shapes of a crater cycle: a ``Crater`` that records every state it observes,
+and a function that draws one state (dissertation Figs. 7.5b, 7.10, 7.12).
+
+``record(params)`` solves one cycle on this rank alone (``MPI.COMM_SELF``); the cycle
+is the scene's own (:func:`bcfem.scenes.crater.solve` with ``model_class=Recorder``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from mpi4py import MPI
+
+from bcfem.geometry.crater import LAYER
+from bcfem.scenes import crater
+
+
+class Recorder(crater.Crater):
+    """``crater.Crater`` that keeps, at every observed state, its row, the displacement
+    interpolated on P1 (to deform the vertex mesh) and the crater wall's current nodes."""
+
+    def __init__(self, params, comm):
+        from dolfinx import fem
+
+        super().__init__(params, comm)
+        V1 = fem.functionspace(self.mesh, ("Lagrange", 1, (2,)))
+        self.u1 = fem.Function(V1)
+        self.vertices = V1.tabulate_dof_coordinates()[:, :2]
+        self.triangles = V1.dofmap.list.copy()
+        self.in_layer = np.isin(np.arange(len(self.triangles)), self.cell_tags.find(LAYER))
+        g = self.geometry
+        X = self.u.function_space.tabulate_dof_coordinates()[:, :2]
+        centre = g.crater_height - g.sphere_radius
+        on_wall = (np.abs(np.hypot(X[:, 0], X[:, 1] - centre) - g.sphere_radius) < 1e-6 * g.crater_radius) \
+            & (X[:, 1] >= -1e-9)
+        order = np.argsort(np.arctan2(X[on_wall, 1] - centre, X[on_wall, 0]))  # from the rim to the pole
+        self.wall_nodes = np.flatnonzero(on_wall)[order]
+        self.wall_X = X[self.wall_nodes]
+        self.states: list[dict] = []
+
+    def observe(self, stage, eps, V1=None):
+        row = super().observe(stage, eps, V1)
+        self.u1.interpolate(self.u)
+        u = self.u.x.array.reshape(-1, 2)
+        self.states.append({**{k: float(v) for k, v in row.items() if k != "stage"}, "stage": stage,
+                            "u1": self.u1.x.array.reshape(-1, 2).copy(), "wall": self.wall_X + u[self.wall_nodes]})
+        return row
+
+
+def record(params: crater.Params) -> tuple[dict, Recorder]:
+    """One cycle on this rank alone; returns (summary, recorder with its states)."""
+    made = []
+
+    def model(p, comm):
+        made.append(Recorder(p, comm))
+        return made[-1]
+
+    _, summary = crater.solve(params, MPI.COMM_SELF, model_class=model)
+    return summary, made[-1]
+
+
+def nearest(states: list[dict], stage: str, eps: float) -> dict:
+    """The recorded state of ``stage`` whose platen strain is nearest ``eps``."""
+    return min((s for s in states if s["stage"] == stage), key=lambda s: abs(s["eps"] - eps))
+
+
+def draw(ax, recorder: Recorder, state: dict, extent: float, text: str = "") -> None:
+    """The deformed specimen near the crater (grey; a layer red), the crater wall (blue),
+    the wall at rest (dotted) and the plate (black), in a square of side ``extent`` [mm]."""
+    import matplotlib.tri as mtri
+    from matplotlib.colors import ListedColormap
+
+    xy = recorder.vertices + state["u1"]
+    for cells, colour in ((~recorder.in_layer, "0.93"), (recorder.in_layer, "tab:red")):
+        if cells.any():
+            part = mtri.Triangulation(xy[:, 0], xy[:, 1], recorder.triangles[cells])
+            ax.tripcolor(part, facecolors=np.zeros(cells.sum()), cmap=ListedColormap([colour]))
+            ax.triplot(part, color="0.55", lw=0.25)
+    ax.plot(recorder.wall_X[:, 0], recorder.wall_X[:, 1], ":", color="0.2", lw=0.9)
+    ax.plot(state["wall"][:, 0], state["wall"][:, 1], "-", color="C0", lw=1.8)
+    ax.axhline(0, color="k", lw=1.5)
+    ax.set_xlim(0, extent)
+    ax.set_ylim(-0.05 * extent, extent)
+    ax.set_aspect("equal")
+    if text:
+        ax.text(0.97, 0.97, text, transform=ax.transAxes, ha="right", va="top", fontsize=7.5,
+                bbox=dict(fc="white", ec="none", alpha=0.9, pad=1.5))
