@@ -23,10 +23,12 @@ bench: venv
 	$(BIN)/python benchmarks/blister_edges.py
 	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/newtonal_vs_bordered.py
 	$(BIN)/python benchmarks/crater_air.py
+	$(BIN)/python benchmarks/crater_design.py
 
-# the dissertation's figures, reproduced by the demos: docs/figures/<demo>/
+# the dissertation's figures, reproduced by the demos on $(NP) ranks: docs/figures/<demo>/
+# (--full: the published grids; demos without such a grid ignore it)
 report: venv
-	@for d in $(DEMOS); do echo "== $$d"; $(BIN)/python demos/$$d.py --quiet --out docs/figures/$$d || exit 1; done
+	@for d in $(DEMOS); do echo "== $$d"; PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) $(BIN)/python demos/$$d.py --quiet --full --out docs/figures/$$d || exit 1; done
 
 clean:
 	rm -rf results .pytest_cache

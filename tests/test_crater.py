@@ -72,6 +72,8 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
 
 @pytest.mark.parametrize("args, word", [
     (["--alpha", "1.2"], "alpha"),
+    (["--alpha", "0"], "alpha"),
+    (["--preload", "-0.1"], "preload"),
     (["--crater-radius", "12.7"], "crater radius"),
     (["--preload", "0.95"], "preload"),
     (["--beta", "0"], "beta"),

@@ -92,8 +92,11 @@ CLOSURE = -1.0
 MAX_LIFT = 0.1
 #: a crater with V <= CLOSED V0 counts as closed (vacuum inside)
 CLOSED = 1e-8
-#: ``--preload closure`` stops at V1 <= CLOSURE_VOLUME V0
+#: ``--preload closure`` stops at V1 <= CLOSURE_VOLUME V0, or once the wall lies on the plate up to
+#: within sqrt(CLOSED_AREA) a of the axis with at most TRAPPED_VOLUME V0 left in folds
 CLOSURE_VOLUME = 1e-3
+CLOSED_AREA = 2.5e-3
+TRAPPED_VOLUME = 1e-2
 COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
 
 
@@ -418,13 +421,16 @@ def classify(events) -> str:
 def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisections: int = 10) -> float:
     """Stage 1 up to the smallest preload that closes the crater, eps_m (to a 2^-bisections
     fraction of the last step): load until the crater is closed, then bisect between the
-    last open and the first closed state. Closed: V1 <= ``CLOSURE_VOLUME`` V0 (a wall that
-    folds onto the plate can trap a tiny pocket that never closes; stage 2 neglects it,
-    which changes F by at most V1/V2)."""
+    last open and the first closed state. Closed: V1 <= ``CLOSURE_VOLUME`` V0, or the wall
+    lies on the plate up to the axis (A1 <= ``CLOSED_AREA`` A0) with at most
+    ``TRAPPED_VOLUME`` V0 left in pockets (a wall that folds onto the plate, e.g. a thin
+    stiff layer, traps pockets that never close). Stage 2 neglects the remnant, which
+    changes F by at most V1/V2; the summary reports V1."""
     V0 = model.geometry.crater_volume
 
     def closed(row) -> bool:
-        return row["V"] <= CLOSURE_VOLUME * V0
+        return row["V"] <= CLOSURE_VOLUME * V0 or (row["V"] <= TRAPPED_VOLUME * V0
+                                                    and row["A_over_A0"] <= CLOSED_AREA)
 
     open_state = {"eps": 0.0, "state": path.problem.save(), "row": rows[-1]}
 

@@ -1,0 +1,180 @@
+"""Benchmark of the crater design space: docs/benchmarks/crater-design.{csv,md,png}.
+
+1. Mesh convergence of the suction force at three representative points of the maps
+   (an air crater at full closure, a liquid hemisphere, a reinforced liquid crater):
+   the relative error of F~ (F^ = F~/beta, the same relative error) against the wall
+   time of one cycle on one core, for four meshes; the reference is a Richardson
+   extrapolation when the meshes converge monotonically, else the finest mesh
+   (`crater_air.reference`, the same criterion as the air-crater benchmark).
+2. The wall time of each published map and the time per point, from the
+   `timing.json` that `bcfem sweep` writes next to each map's `sweep.csv`
+   (`docs/figures/crater_design/sweeps/<map>/`, made by `make report` or by the
+   commands in docs/craters.md).
+
+Run from the repository root: `.venv/bin/python benchmarks/crater_design.py` (part of
+`make bench`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from pathlib import Path
+
+from common import ROOT, atomic_text, csv_text, fmt, run_worker
+
+OUT = ROOT / "docs" / "benchmarks"
+MAPS = ROOT / "docs" / "figures" / "crater_design" / "sweeps"
+COMMAND = ".venv/bin/python benchmarks/crater_design.py"
+CLOSURE = -1.0  # crater.CLOSURE (not imported here: the driver stays free of dolfinx)
+POINTS = {
+    "air, alpha 0.7, beta 1, full closure (Fig. 7.9)": dict(alpha=0.7, beta=1.0, preload=CLOSURE),
+    "liquid, hemisphere, eps 0.25 (Fig. 8.4)": dict(fluid="liquid", alpha=1.0, preload=0.25),
+    "liquid, alpha 0.85, layer 0.03/30, eps 0.25 (Fig. 8.7b)": dict(
+        fluid="liquid", alpha=0.85, preload=0.25, layer_thickness=0.03, layer_stiffness=30.0),
+}
+SIZES = [0.12, 0.085, 0.06, 0.042]  # size_crater, coarse to fine (0.06 is the scene's default)
+COLUMNS = ["point", "size_crater", "status", "dofs", "F_tilde", "F_hat", "error", "A2_over_A0", "V2_over_V0",
+           "p2_over_pa", "preload", "stability", "wall_time_s", "t_process", "reason"]
+
+
+def worker(case: dict) -> dict:
+    import bcfem  # noqa: F401  (before dolfinx / petsc4py)
+    from mpi4py import MPI
+
+    from bcfem.log import configure
+    from bcfem.scenes import crater
+
+    configure(MPI.COMM_WORLD, quiet=True)
+    out = {**case, "status": "ok", "reason": ""}
+    try:
+        _, s = crater.solve(crater.Params(**case["params"], size_crater=case["size_crater"]), MPI.COMM_WORLD)
+        out.update({k: float(s[k]) for k in ("F_tilde", "F_hat", "A2_over_A0", "V2_over_V0", "p2_over_pa", "preload",
+                                              "wall_time_s")}, dofs=s["dofs"], stability=s["stability"])
+    except Exception as error:  # recorded, with its message
+        out.update(status="failed", reason=f"{type(error).__name__}: {error}")
+    return out
+
+
+def main() -> None:
+    from crater_air import reference
+
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sizes", type=float, nargs="+", default=SIZES)
+    args = ap.parse_args()
+    t0 = time.perf_counter()
+    load = [loadavg()]
+    rows, refs = [], {}
+    for name, params in POINTS.items():
+        series = []
+        for size in sorted(args.sizes, reverse=True):
+            r = run_worker(__file__, {"point": name, "params": params, "size_crater": size})
+            print(f"{name}, size {size:g}: {r['status']} F~ = {r.get('F_tilde')} ({r.get('wall_time_s')} s)",
+                  file=sys.stderr, flush=True)
+            rows.append(r)
+            if r["status"] == "ok":
+                series.append(r)
+        refs[name] = reference(series) if series else None
+        for r in series:
+            ref = refs[name]["F"]
+            r["error"] = abs(r["F_tilde"] / ref - 1) if ref else math.nan
+    load.append(loadavg())
+    write(rows, refs, maps(), time.perf_counter() - t0, load)
+
+
+def maps() -> list[dict]:
+    """Each map's sweep timing (points solved and reused, ranks, wall time)."""
+    out = []
+    for path in sorted(MAPS.glob("*/timing.json")):
+        timing = json.loads(path.read_text())
+        points = len((path.parent / "sweep.csv").read_text().splitlines()) - 1
+        out.append({"map": path.parent.name, "points": points, **timing})
+    return out
+
+
+def loadavg() -> str:
+    return Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "?"
+
+
+def write(rows, refs, timings, wall, load) -> None:
+    sys.path.insert(0, str(ROOT))
+    from bcfem import io
+    from bcfem.plots import pyplot
+
+    atomic_text(OUT / "crater-design.csv", csv_text(rows, COLUMNS))
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    for i, (name, ref) in enumerate(refs.items()):
+        ok = [r for r in rows if r["point"] == name and r["status"] == "ok" and r.get("error", 0) > 0]
+        if not ok:
+            continue
+        kind = "Richardson" if ref["kind"] == "richardson" else "finest mesh"
+        ax.loglog([r["wall_time_s"] for r in ok], [r["error"] for r in ok], "o-", color=f"C{i}",
+                  label=f"{name} (vs {kind})")
+        for r in ok:
+            ax.annotate(f"{r['size_crater']:g}", (r["wall_time_s"], r["error"]), fontsize=6.5, xytext=(3, 3),
+                        textcoords="offset points", color=f"C{i}")
+    ax.axhline(0.01, color="k", lw=0.8, ls="--", label="1 %")
+    ax.set_xlabel("wall time of one cycle [s] (one core, warm JIT cache)")
+    ax.set_ylabel("relative error of F~ (numbers: size_crater)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    ax.set_title("crater design space: mesh convergence of the suction force", fontsize=9)
+    fig.tight_layout()
+    io.save_figure(fig, OUT / "crater-design.png")
+    plt.close(fig)
+    atomic_text(OUT / "crater-design.md", markdown(rows, refs, timings, wall, load))
+
+
+def markdown(rows, refs, timings, wall, load) -> str:
+    L = ["# Benchmark: the crater design space (scene `crater`, `demos/crater_design.py`)", "",
+         f"Regenerate with `{COMMAND}` (or `make bench`; {wall / 60:.1f} min for the mesh study). The map table "
+         "reads the `timing.json` of each map's sweep directory.", "",
+         "## Published maps: wall time on 2 ranks", "",
+         "Each map is one `mpirun -n 2 bcfem sweep crater ...` command (listed in `docs/craters.md`); "
+         "the points are spread over the ranks, each a serial cycle. Core-seconds per point = wall time x "
+         "ranks / points solved.", "",
+         "| map | points | failed | ranks | wall [s] | core-s per point |", "|---|---|---|---|---|---|"]
+    for t in timings:
+        L.append(f"| {t['map']} | {t['points']} | {t['failed']} | {t['ranks']} | {t['wall_time_s']:.0f} | "
+                 f"{t['core_seconds_per_solved_point']:.1f} |")
+    if timings:
+        total = sum(t["wall_time_s"] for t in timings)
+        L += ["", f"All maps: {total / 60:.1f} min on {timings[0]['ranks']} ranks."]
+    L += ["", "## Mesh convergence of F~ at three representative points", "",
+          "One cycle per mesh in a fresh process on one core (`size_crater` = element size at the crater / a; "
+          "P2-P1 Taylor-Hood). The error is |F~/F~_ref - 1|; F^ = F~/beta has the same relative error. "
+          f"Load average {load[0]} at the start and {load[1]} at the end (above 1, other jobs shared the two "
+          "cores and the times are inflated).", ""]
+    for name, ref in refs.items():
+        L += [f"### {name}", ""]
+        if ref is None:
+            L += ["every mesh failed", ""]
+            continue
+        if ref["kind"] == "richardson":
+            L.append(f"Reference F~ = {ref['F']:.6f}: Richardson extrapolation with the observed order "
+                     f"p = {ref['order']:.2f}.")
+        else:
+            L.append(f"Reference F~ = {ref['F']:.6f}: the finest mesh (size {ref['finest']:g}); the meshes do not "
+                     "converge monotonically, so errors are relative to that mesh, not to the exact value.")
+        L += ["", "| size_crater | dofs | F~ | rel. error | A2/A0 | eps | stability | wall [s] |",
+              "|---|---|---|---|---|---|---|---|"]
+        for r in (r for r in rows if r["point"] == name):
+            if r["status"] != "ok":
+                L.append(f"| {r['size_crater']:g} | | failed: {r['reason'][:80]} | | | | | |")
+                continue
+            L.append(f"| {r['size_crater']:g} | {r['dofs']} | {r['F_tilde']:.5f} | {fmt(r.get('error'))} | "
+                     f"{r['A2_over_A0']:.4f} | {r['preload']:.4f} | {r['stability']} | {r['wall_time_s']:.1f} |")
+        L.append("")
+    return "\n".join(L) + "\n"
+
+
+if __name__ == "__main__":
+    if len(sys.argv) > 2 and sys.argv[1] == "--worker":
+        T = time.perf_counter()
+        print("RESULT " + json.dumps(worker(json.loads(sys.argv[2]))), flush=True)
+    else:
+        main()
