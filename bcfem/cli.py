@@ -93,6 +93,8 @@ def build_parser():
                        help="a grid axis (repeat for each axis; two axes give contour maps)")
         p.add_argument("--out", type=Path, default=Path("results") / f"{name}-sweep")
         p.add_argument("--quiet", action="store_true")
+        p.add_argument("--retry-failed", action="store_true",
+                       help="solve again the points a previous run recorded as failed (else they are kept)")
         if not hasattr(studies, "fit"):
             continue
         p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,
@@ -175,7 +177,7 @@ def _sweep(parser, args, module, params, comm) -> int:
     except ValueError as err:
         parser.exit(2, f"bcfem sweep {args.scene}: error: {err}\n" if comm.rank == 0 else "")
     configure(comm, quiet=args.quiet)
-    rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm)
+    rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm, retry_failed=args.retry_failed)
     if len(axes) == 1:
         sweep.curves(rows, axes[0][0], studies.SWEEP["maps"], f"{args.scene}: {studies.SWEEP['title']}",
                      args.out / "curves.png", comm)

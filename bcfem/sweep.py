@@ -4,8 +4,9 @@ Each rank solves its share of the points on its own communicator
 (``comm.Split`` by rank, so every point is a serial solve and the map does not
 depend on the number of ranks). Every finished point is written at once to
 ``points/<key>.json`` (atomically), so a rerun skips it; a failed point is
-recorded with its reason, never dropped. Rank 0 then gathers ``sweep.csv`` and, if
-it solved anything, ``timing.json`` (points solved and reused, ranks, wall time).
+recorded with its reason, never dropped (``--retry-failed`` solves it again).
+Rank 0 then gathers ``sweep.csv`` and, if it solved anything, ``timing.json``
+(points solved and reused, ranks, wall time).
 """
 
 from __future__ import annotations
@@ -70,11 +71,13 @@ def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
     return points
 
 
-def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD) -> list[dict]:
+def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool = False) -> list[dict]:
     """Solve ``points`` (from :func:`grid_points`) over the ranks of ``comm``; return all rows.
 
     Args:
         solve_point: ``solve_point(params, comm) -> dict`` of results for one point.
+        retry_failed: solve again the points recorded as failed (else they are kept as
+            they are: a failure is a result, and re-solving it can take long).
     """
     t0 = time.perf_counter()
     out = Path(out)
@@ -88,8 +91,8 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD) -> list[dict]:
         if index % comm.size != comm.rank:
             continue
         path = point_dir / f"{point_key(values, params)}.json"
-        if path.exists() and json.loads(path.read_text()).get("status") == "ok":
-            skipped += 1  # finished before; failed points are retried
+        if path.exists() and (not retry_failed or json.loads(path.read_text()).get("status") == "ok"):
+            skipped += 1  # finished before
             continue
         level = logger.level
         logger.setLevel(logging.WARNING)  # no per-step progress from inside a point

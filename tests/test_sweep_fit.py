@@ -48,6 +48,17 @@ def test_a_failed_point_is_recorded_not_dropped(tmp_path):
     assert [r["status"] for r in rows] == ["ok", "failed", "ok"]
     assert "solver gave up" in rows[1]["reason"]
     assert rows[2]["value"] == 4.0
+    # a rerun keeps the recorded failure; --retry-failed solves it again (and only it)
+    calls = []
+
+    def fixed(params, comm):
+        calls.append(params.alpha)
+        return {"value": params.alpha * 2}
+
+    assert [r["status"] for r in sweep.run(points, fixed, tmp_path, MPI.COMM_WORLD)] == ["ok", "failed", "ok"]
+    assert calls == []
+    rows = sweep.run(points, fixed, tmp_path, MPI.COMM_WORLD, retry_failed=True)
+    assert [r["status"] for r in rows] == ["ok", "ok", "ok"] and calls == [1.0] and rows[1]["value"] == 2.0
 
 
 def test_bad_grid_exits_2(tmp_path):
