@@ -166,14 +166,26 @@ def best(rows, key):
 # states the cycle observes.
 
 # %%
-shapes_7_10, types_7_12 = {}, {}
+shapes_7_10, types_7_12, shape_failures = {}, {}, []
+
+
+def recorded(params, into, key):
+    """One recorded cycle; a failure is reported and listed, not fatal."""
+    try:
+        into[key] = crater_frames.record(params)
+    except Exception as error:
+        shape_failures.append({"case": str(key), "reason": f"{type(error).__name__}: {error}"})
+        report(f"  FAILED shape cycle {key}: {error}")
+
+
 t0 = time.perf_counter()
 if comm.rank == 0:
     for alpha, beta in (SHAPES_7_10 if full else QUICK_SHAPES["7_10"]):
-        shapes_7_10[(alpha, beta)] = crater_frames.record(replace(AIR, alpha=alpha, beta=beta))
+        recorded(replace(AIR, alpha=alpha, beta=beta), shapes_7_10, (alpha, beta))
     for tag, (thickness, stiffness) in (TYPES_7_12 if full else QUICK_SHAPES["7_12"]).items():
-        types_7_12[tag] = crater_frames.record(replace(AIR, alpha=1.0, beta=1.0, layer_thickness=thickness,
-                                                       layer_stiffness=stiffness))
+        recorded(replace(AIR, alpha=1.0, beta=1.0, layer_thickness=thickness, layer_stiffness=stiffness),
+                 types_7_12, tag)
+shape_failures = comm.bcast(shape_failures, root=0)
 timing["shapes"] = {"cycles": len(shapes_7_10) + len(types_7_12), "wall_time_s": time.perf_counter() - t0,
                     "ranks": 1}
 comm.barrier()
@@ -242,6 +254,7 @@ io.write_json(args.out / "summary.json", {
     "commands": {name: command(name) for name in MAPS},
     "timing": timing,
     "ours": ours, "dissertation": DISSERTATION,
+    "failed_shape_cycles": shape_failures,
     "failed": [{"map": name, **{k: r[k] for k in MAPS[name][1] if k in r}, "reason": r["reason"]}
                for name, rows in results.items() for r in rows if r["status"] != "ok"],
     "shapes_7_10": [{"alpha": a, "beta": b, **shape_summary(s)} for (a, b), (s, _) in shapes_7_10.items()],
@@ -305,6 +318,14 @@ if comm.rank == 0:
     plt = pyplot()
     written = []
 
+    def plain_log(ax):
+        """A log y axis labelled with plain numbers."""
+        from matplotlib.ticker import NullFormatter, ScalarFormatter
+
+        ax.set_yscale("log")
+        ax.yaxis.set_major_formatter(ScalarFormatter())
+        ax.yaxis.set_minor_formatter(NullFormatter())
+
     def save(fig, filename):
         fig.tight_layout()
         io.save_figure(fig, args.out / filename, comm)
@@ -314,7 +335,7 @@ if comm.rank == 0:
     # Fig. 7.9
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.3))
     contour(a, "fig7_9", "alpha", "beta", "F_tilde", r"$\tilde F$", lines=[(0.8, "-")])
-    a.set_yscale("log")
+    plain_log(a)
     a.set_title(r"(a) $\tilde F$ at full closure; black: $\tilde F = 0.8$ ('good' above)", fontsize=9)
     for beta in sorted({r["beta"] for r in ok("fig7_9")}):
         rows = sorted((r for r in ok("fig7_9") if r["beta"] == beta), key=lambda r: r["alpha"])
@@ -385,7 +406,7 @@ if comm.rank == 0:
     for label, colour in STABILITY_COLOURS.items():
         a.scatter([], [], c=colour, marker="s", label=label)
     a.plot([], [], color="gold", lw=2, label="dissertation: F~ > 1")
-    a.set_yscale("log")
+    plain_log(a)
     a.set_xlabel(r"$\alpha' = t/a$")
     a.set_ylabel(r"$\beta' = \mu_l/\mu$")
     a.legend(fontsize=7, loc="lower right")
@@ -476,6 +497,7 @@ if comm.rank == 0:
 
 # %%
 if not full:
+    assert not shape_failures, shape_failures
     assert all(r["status"] == "ok" for rows in results.values() for r in rows), \
         [(name, r["reason"]) for name, rows in results.items() for r in rows if r["status"] != "ok"]
 resolution = AIR.strain_step * 2.0 ** -9
