@@ -18,6 +18,7 @@ Run from the repository root: `.venv/bin/python benchmarks/crater_design.py` (pa
 from __future__ import annotations
 
 import argparse
+import csv
 import json
 import math
 import sys
@@ -89,9 +90,13 @@ def maps() -> list[dict]:
     """Each map's sweep timing (points solved and reused, ranks, wall time)."""
     out = []
     for path in sorted(MAPS.glob("*/timing.json")):
+
+
         timing = json.loads(path.read_text())
-        points = len((path.parent / "sweep.csv").read_text().splitlines()) - 1
-        out.append({"map": path.parent.name, "points": points, **timing})
+        rows = list(csv.DictReader((path.parent / "sweep.csv").open()))
+        # points and failures as the map stands now (a later rerun may have solved a failed point)
+        out.append({**timing, "map": path.parent.name, "points": len(rows),
+                    "failed": sum(r["status"] != "ok" for r in rows)})
     return out
 
 

@@ -409,7 +409,7 @@ if comm.rank == 0:
     plain_log(a)
     a.set_xlabel(r"$\alpha' = t/a$")
     a.set_ylabel(r"$\beta' = \mu_l/\mu$")
-    a.legend(fontsize=7, loc="lower right")
+    a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     a.set_title(r"(b) stability classes at $\alpha = \beta = 1$ (numbers: $\tilde F$, bold > 1)", fontsize=9)
     curve(b, "fig7_11c", "alpha", "F_tilde", r"reinforced $\alpha'$ = 0.03, $\beta'$ = 30")
     plain = sorted((r for r in ok("fig7_9") if r["beta"] == 1.0), key=lambda r: r["alpha"])
