@@ -80,3 +80,15 @@ def test_closed_liquid_crater_gives_no_suction(hemisphere_to_closure):
     assert summary["eps_m"] == pytest.approx(hemisphere_to_closure["eps_m"], rel=1e-10)
     assert summary["F_hat"] == 0.0 and summary["V2_over_V0"] <= crater.CLOSURE_VOLUME
     assert "eq. 8.8" in summary["closure_note"]
+
+
+def test_thin_stiff_lining_closes_with_a_trapped_pocket():
+    """alpha' = 0.015, beta' = 30: the lining folds onto the plate and traps pockets, so V1
+    never reaches CLOSURE_VOLUME V0. The crater counts as closed once the wall lies on the
+    plate up to the axis with at most TRAPPED_VOLUME V0 left; stage 2 has a vacuum inside,
+    and the neglected remnant is reported."""
+    summary = cycle(preload=crater.CLOSURE, alpha=1.0, beta=1.0, layer_thickness=0.015, layer_stiffness=30.0)
+    assert crater.CLOSURE_VOLUME < summary["V1_over_V0"] <= crater.TRAPPED_VOLUME
+    assert 0.3 < summary["eps_m"] < 0.6
+    assert summary["p2_over_pa"] == 0.0 and summary["F_tilde"] == pytest.approx(summary["A2_over_A0"], rel=1e-12)
+    assert "trapped remnant" in summary["closure_note"]
