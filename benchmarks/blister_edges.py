@@ -39,7 +39,7 @@ import math  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, count_newton, csv_text, fmt, richardson, run_worker  # noqa: E402
+from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker  # noqa: E402
 OUT = ROOT / "docs" / "benchmarks"
 COMMON = {"alpha": 0.5, "adhesion": 2.5}
 CASES = {  # name -> (Params fields, bracket of Vc for the energy method, dissertation's Vc)
@@ -139,7 +139,7 @@ def main(argv=None):
     if MPI.COMM_WORLD.size > 1:
         sys.exit("the benchmark is serial (one core): run it without mpirun")
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
-    load = [Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "?"]
+    load = [loadavg()]
     t_bench = time.perf_counter()
 
     # warm the JIT cache (forms depend on the case and the degree, not on the mesh)
@@ -183,7 +183,7 @@ def main(argv=None):
         rows.append({"study": "slippery_start", "start_volume": start, "v_max": v_max, **r})
         log(f"slippery start {start}: {r['status']} {r.get('Vc')} {r['reason'][:120]}")
 
-    load.append(Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "?")
+    load.append(loadavg())
     args.load = load
     args.wall = time.perf_counter() - t_bench
     write_outputs(rows, refs, args)

@@ -40,7 +40,7 @@ import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, count_newton, csv_text, fmt, richardson, run_worker  # noqa: E402
+from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker  # noqa: E402
 OUT = ROOT / "docs" / "benchmarks"
 GRID = [0.25 * k for k in range(1, 25)]  # V/V0 = 0.25, 0.5, ..., 6
 CELLS_DEFAULT = [25, 50, 100, 200, 400, 800, 1600, 3200]
@@ -173,7 +173,7 @@ def main(argv=None):
     if MPI.COMM_WORLD.size > 1:
         sys.exit("the benchmark is serial (one core): run it without mpirun")
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
-    load_start = Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "?"
+    load_start = loadavg()
 
     # warm the JIT cache for every form (forms depend on the degree, not on the mesh)
     for degree in DEGREES:
@@ -249,7 +249,7 @@ def main(argv=None):
     ref = {"noise_grid": noise_grid, "P_max": ref_max, "V_max": lf["V_max"], "P_min": ref_min, "floor_max": floor_max,
            "floor_grid": floor_grid, "imports": import_breakdown(),
            "observed": observed, "grid": ref_grid, "corr_max": rel(ref_max, lf["P_max"])}
-    args.load = (load_start, Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "?")
+    args.load = (load_start, loadavg())
     write_outputs(rows, ref, args)
 
 

@@ -59,6 +59,12 @@ def count_newton():
     return count, lambda: setattr(Problem, "solve", solve)
 
 
+def loadavg() -> str:
+    """The 1-minute load average ("?" where /proc is missing): were other jobs running?"""
+    p = Path("/proc/loadavg")
+    return p.read_text().split()[0] if p.exists() else "?"
+
+
 def richardson(coarse, fine, order):
     return fine + (fine - coarse) / (2**order - 1)
 

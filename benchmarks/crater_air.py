@@ -49,7 +49,7 @@ import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, count_newton, csv_text, fmt  # noqa: E402
+from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg  # noqa: E402
 
 OUT = ROOT / "docs" / "benchmarks"
 BIN = Path(sys.executable).parent
@@ -225,11 +225,6 @@ def wait_idle(max_wait: float) -> tuple[float, float]:
         time.sleep(10)
         busy = busy_cores()
     return time.perf_counter() - t0, busy
-
-
-def loadavg() -> str:
-    p = Path("/proc/loadavg")
-    return p.read_text().split()[0] if p.exists() else "?"
 
 
 def observed_order(h, q):

@@ -23,9 +23,8 @@ import json
 import math
 import sys
 import time
-from pathlib import Path
 
-from common import ROOT, atomic_text, csv_text, fmt, run_worker
+from common import ROOT, atomic_text, csv_text, fmt, loadavg, run_worker
 
 OUT = ROOT / "docs" / "benchmarks"
 MAPS = ROOT / "docs" / "figures" / "crater_design" / "sweeps"
@@ -90,8 +89,6 @@ def maps() -> list[dict]:
     """Each map's sweep timing (points solved and reused, ranks, wall time)."""
     out = []
     for path in sorted(MAPS.glob("*/timing.json")):
-
-
         timing = json.loads(path.read_text())
         rows = list(csv.DictReader((path.parent / "sweep.csv").open()))
         # points and failures as the map stands now (a later rerun may have solved a failed point)
@@ -100,12 +97,7 @@ def maps() -> list[dict]:
     return out
 
 
-def loadavg() -> str:
-    return Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "?"
-
-
 def write(rows, refs, timings, wall, load) -> None:
-    sys.path.insert(0, str(ROOT))
     from bcfem import io
     from bcfem.plots import pyplot
 
