@@ -21,7 +21,9 @@ class Problem:
 
     Args:
         ctx: the context; its states are collected after the energies are built.
-        terms: energy terms, each with ``energy(ctx)``.
+        terms: energy terms, each with ``energy(ctx)`` (a UFL form), or discrete terms
+            (``is_discrete``, e.g. self-contact) that add their residual and tangent to the
+            assembled system: ``bind(problem)``, ``add_residual(b)``, ``add_jacobian(A)``.
         bcs: Dirichlet conditions on the displacement.
         prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
         petsc_options: scene defaults, layered over bcfem's (the user's win).
@@ -37,10 +39,13 @@ class Problem:
                  rows: dict | None = None, jit_options: dict | None = None, energy_scale: float = 1.0):
         self.ctx = ctx
         self.terms = list(terms)
-        self.lagrangian = sum(term.energy(ctx) for term in self.terms)
+        self.discrete = [t for t in self.terms if getattr(t, "is_discrete", False)]
+        self.lagrangian = sum(t.energy(ctx) for t in self.terms if not getattr(t, "is_discrete", False))
         rows = rows or {}
         # a Constant, so that a new scale does not mean a new compiled form
         inverse_scale = fem.Constant(ctx.mesh, 1.0 / energy_scale)
+        self.inverse_scale = inverse_scale
+        self.bcs = list(bcs)
         self.names = list(ctx.states)
         self.states = [ctx.states[n] for n in self.names]
         scaled = inverse_scale * self.lagrangian
@@ -58,6 +63,53 @@ class Problem:
         self.iterations = 0
         self.reason = 0
         self._tangent_ksp = None
+        for term in self.discrete:
+            term.bind(self)
+        if self.discrete:
+            self._add_discrete_terms()
+
+    def _add_discrete_terms(self) -> None:
+        """Wrap dolfinx's assembly callbacks: the discrete terms add to what the forms give."""
+        b, (residual, args, kargs) = self.snes.getFunction()
+        A, P, (jacobian, jargs, jkargs) = self.snes.getJacobian()
+
+        def function(snes, x, f):
+            residual(snes, x, f, *args, **kargs)
+            for term in self.discrete:
+                term.add_residual(f)
+
+        def tangent(snes, x, J, Pmat):
+            jacobian(snes, x, J, Pmat, *jargs, **jkargs)
+            for term in self.discrete:
+                term.add_jacobian(J)
+
+        self.snes.setFunction(function, b)
+        self.snes.setJacobian(tangent, A, P)
+
+    def global_indices(self, name: str) -> np.ndarray:
+        """The global row of every local (unrolled, ghosts included) dof of state ``name``."""
+        v = self.new_vector()
+        start, end = v.getOwnershipRange()
+        v.array[:] = np.arange(start, end, dtype=float)
+        functions = [fem.Function(s.function_space) for s in self.states]
+        self.functions_from(v, functions)
+        v.destroy()
+        return np.rint(functions[self.names.index(name)].x.array).astype(np.int64)
+
+    def constrained(self, name: str) -> np.ndarray:
+        """A mask of the local (unrolled) dofs of state ``name`` held by a Dirichlet condition."""
+        space = self.ctx.states[name].function_space
+        mask = np.zeros(space.dofmap.index_map.size_local + space.dofmap.index_map.num_ghosts, dtype=bool)
+        mask = np.repeat(mask, space.dofmap.index_map_bs)
+        for bc in self.bcs:
+            if space._cpp_object.contains(bc.function_space):
+                dofs, _ = bc.dof_indices()
+                mask[dofs] = True
+        return mask
+
+    def allow_new_nonzeros(self) -> None:
+        """Let a discrete term add entries outside the forms' sparsity pattern."""
+        self._nlp.A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
 
     @property
     def comm(self):

@@ -118,6 +118,23 @@ class LoadPath:
                 break
         return current
 
+    def mark(self, value: float) -> dict:
+        """The accepted state at load ``value`` with the path's record (snaps, events,
+        stability), to come back to with :meth:`rewind`."""
+        return {"value": value, "state": self.problem.save(), "snaps": self.snaps,
+                "events": len(self.events), "unstable": self.unstable}
+
+    def rewind(self, mark: dict) -> float:
+        """Back to a :meth:`mark`: the state, the load and the record, so that trial paths
+        from it (a bisection, a root search) neither count their snaps twice nor report
+        events the final path did not pass. Returns the mark's load."""
+        self.problem.restore(mark["state"])
+        self._saved = self.problem.save()
+        self.set_load(mark["value"])
+        self.snaps, self.unstable = mark["snaps"], mark["unstable"]
+        del self.events[mark["events"]:]
+        return mark["value"]
+
     def start(self) -> None:
         """Take the current state as the first accepted one."""
         self._saved = self.problem.save()

@@ -1,9 +1,11 @@
-"""Helpers shared by tests: run the ``bcfem`` command line on one or more MPI ranks."""
+"""Helpers shared by tests: run the ``bcfem`` command line on MPI ranks; closed forms used twice."""
 
 import os
 import subprocess
 import sys
 from pathlib import Path
+
+from scipy.optimize import brentq
 
 BIN = Path(sys.executable).parent
 
@@ -15,3 +17,16 @@ def bcfem(*args, ranks: int = 1, timeout: float = 600) -> subprocess.CompletedPr
         cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
     env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}"}
     return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout)
+
+
+def exact_nominal_stress(stretch, kappa):
+    """Uniaxial stress of W = (I1-3)/2 - ln J + p(J-1) - p^2/(2 kappa), mu = 1, p = kappa (J - 1):
+    the lateral stretch l makes the lateral stress vanish."""
+
+    def lateral_stress(l):
+        J = stretch * l * l
+        return l - 1 / l + kappa * (J - 1) * J / l
+
+    l = brentq(lateral_stress, 0.2, 3.0, xtol=1e-15)
+    J = stretch * l * l
+    return stretch - 1 / stretch + kappa * (J - 1) * J / stretch

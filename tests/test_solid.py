@@ -7,7 +7,6 @@ import pytest
 import ufl
 from dolfinx import fem, mesh
 from mpi4py import MPI
-from scipy.optimize import brentq
 
 from bcfem.context import Context
 from bcfem.energies import SolidStrain
@@ -15,6 +14,7 @@ from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.mpi import global_sum
 from bcfem.problem import Problem
 from bcfem.solid import AxisymmetricSolid
+from helpers import exact_nominal_stress
 
 pytestmark = pytest.mark.mpi
 RADIUS, HEIGHT = 1.0, 2.0
@@ -51,19 +51,6 @@ def compress(stretch: float, kappa_over_mu: float, cells: int = 4):
         w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / HEIGHT]))
         force = global_sum(fem.form(ufl.derivative(energy, u, w)))
     return force / (math.pi * RADIUS**2)
-
-
-def exact_nominal_stress(stretch, kappa):
-    """Uniaxial stress of W = (I1-3)/2 - ln J + p(J-1) - p^2/(2 kappa), mu = 1, p = kappa (J - 1):
-    the lateral stretch l makes the lateral stress vanish."""
-
-    def lateral_stress(l):
-        J = stretch * l * l
-        return l - 1 / l + kappa * (J - 1) * J / l
-
-    l = brentq(lateral_stress, 0.2, 3.0, xtol=1e-15)
-    J = stretch * l * l
-    return stretch - 1 / stretch + kappa * (J - 1) * J / stretch
 
 
 @pytest.mark.parametrize("stretch", [0.6, 0.85, 1.2])

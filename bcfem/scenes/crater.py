@@ -48,6 +48,7 @@ from bcfem.mpi import PointEvaluator, global_sum, real_value
 from bcfem.params import require
 from bcfem.problem import Problem
 from bcfem.relaxation import Viscosity
+from bcfem.self_contact import WallSelfContact
 from bcfem.solid import AxisymmetricSolid
 from bcfem.stepping import LoadPath, SteppingError
 
@@ -85,6 +86,9 @@ HELP = {
                       "(physical PDMS: 7e-5)",
     "layer_thickness": "reinforcement layer lining the crater, alpha' = t / a, 0 (none) or in (0, 0.5)",
     "layer_stiffness": "beta' = mu_layer / mu of the reinforcement, > 0",
+    "self_contact": "penalty of the crater wall's self-contact over mu/L (L: node spacing on the wall), "
+                    "0 (off) or in [10, 1e4]; the penetration is about the contact pressure over "
+                    "self_contact mu, in units of L",
 }
 #: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
 CLOSURE = -1.0
@@ -117,6 +121,7 @@ class Params:
     surface_energy: float = 0.01
     layer_thickness: float = 0.0
     layer_stiffness: float = 1.0
+    self_contact: float = 100.0
 
     CHOICES = {"fluid": list(FLUIDS)}
     WORDS = {"preload": {"closure": CLOSURE}}
@@ -132,6 +137,8 @@ class Params:
                 f"layer-thickness (t/a) must be 0 or in (0, 0.5) (got {self.layer_thickness})")
         require(self.layer_stiffness > 0 and math.isfinite(self.layer_stiffness),
                 f"layer-stiffness (mu_layer/mu) must be > 0 (got {self.layer_stiffness})")
+        require(self.self_contact == 0 or 10 <= self.self_contact <= 1e4,
+                f"self-contact must be 0 (off) or in [10, 1e4] (got {self.self_contact})")
         require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
         self.geometry()  # validates alpha, radii and sizes before any meshing
 
@@ -168,6 +175,10 @@ class Crater:
         gamma = params.surface_energy * params.beta * geometry.crater_radius  # gamma~ mu a
         self.surface = SolidSurfaceEnergy(gamma, CRATER, "crater_surface_energy") if gamma > 0 else None
         self.viscosity = Viscosity(self.u)
+        # the wall (or its lining) must not fold through itself; the stiffest material sets k
+        stiffest = params.beta * (max(1.0, params.layer_stiffness) if params.layer_thickness > 0 else 1.0)
+        self.self_contact = (WallSelfContact(facets, CRATER, stiffest, penalty=params.self_contact)
+                             if params.self_contact > 0 else None)
         self.strain = 0.0
         self.bcs = self._bcs(V, facets)
         ds = ufl.Measure("ds", domain=msh, subdomain_data=facets, metadata={"quadrature_degree": 6})
@@ -185,10 +196,10 @@ class Crater:
         self.cell_tags = data.cell_tags
 
     def terms(self, *fluid) -> list:
-        """The solid, the wall's surface energy (if any), the fluid, and the viscosity
-        used only while relaxing past an instability."""
-        surface = [self.surface] if self.surface is not None else []
-        return [*self.solids, *surface, *fluid, self.viscosity]
+        """The solid, the wall's surface energy and self-contact (if any), the fluid, and the
+        viscosity used only while relaxing past an instability."""
+        optional = [t for t in (self.surface, self.self_contact) if t is not None]
+        return [*self.solids, *optional, *fluid, self.viscosity]
 
     def set_platen(self, strain: float) -> None:
         """Platen displacement for the specimen strain eps = -dL/L."""
@@ -298,7 +309,9 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     terms = model.terms(fluid)
     unloading = Problem(model.ctx, terms, model.bcs, "bcfem_crater_unload_", vi)
     model.contact_bounds(unloading)
-    lagrangian = sum(t.energy(model.ctx) for t in terms)
+    # self-contact is left out: its forces pair up on the wall, so their work in w is the
+    # contact force times gap / H, negligible
+    lagrangian = unloading.lagrangian
     w = fem.Function(model.u.function_space)
     w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / H]))
     platen_force = fem.form(ufl.derivative(lagrangian, model.u, w))  # compression < 0
@@ -317,13 +330,13 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
                 event.update(detail=f"{event['detail']} (vacuum ramp at {event['eps']:.3g})", eps=preload)
             path.unstable = sealing.unstable
         path.set_load(preload)
-        last = {"eps": preload, "state": unloading.save()}
+        last = path.mark(preload)
 
         def accept(strain):
             if global_sum(platen_force) >= 0:
                 return True
             rows.append(model.observe("unload", strain, V1_sealed))
-            last.update(eps=strain, state=unloading.save())
+            last.update(path.mark(strain))
             return False
 
         # past a snap the specimen can still push at eps = 0: the platen then lifts further
@@ -334,15 +347,14 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
             events.append({"stage": "unload", "eps": reached, "kind": "lift", "unstable": None,
                            "detail": "zero platen force only beyond the specimen's original height"})
         zero_force = reached
-        if reached != last["eps"]:
+        if reached != last["value"]:
             def force_at(strain):
                 # always from the last state before the zero: no hysteresis between evaluations
-                unloading.restore(last["state"])
-                path.set_load(last["eps"])
-                path.advance(last["eps"], strain, abs(strain - last["eps"]))
+                start = path.rewind(last)
+                path.advance(start, strain, abs(strain - start))
                 return global_sum(platen_force)
 
-            zero_force = brentq(force_at, reached, last["eps"], xtol=1e-10 * max(preload, 1e-3))
+            zero_force = brentq(force_at, reached, last["value"], xtol=1e-10 * max(preload, 1e-3))
             force_at(zero_force)
     finally:
         final = model.observe("unload", model.strain, V1_sealed)
@@ -432,35 +444,31 @@ def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisec
         return row["V"] <= CLOSURE_VOLUME * V0 or (row["V"] <= TRAPPED_VOLUME * V0
                                                     and row["A_over_A0"] <= CLOSED_AREA)
 
-    open_state = {"eps": 0.0, "state": path.problem.save(), "row": rows[-1]}
+    open_state = path.mark(0.0)
 
     def accept(eps):
         row = model.observe("load", eps)
         rows.append(row)
         if closed(row):
             return True
-        open_state.update(eps=eps, state=path.problem.save(), row=row)
+        open_state.update(path.mark(eps))
         return False
 
     closed_at = _through(path, 0.0, max_preload, params.strain_step, accept)
     if not closed(rows[-1]):
         raise SteppingError(f"load: the crater is still open at eps = {closed_at:.4g}", closed_at)
-    closed_state = path.problem.save()
-    low = open_state["eps"]
+    closed_state = path.mark(closed_at)
     for _ in range(bisections):
+        low = path.rewind(open_state)
         mid = 0.5 * (low + closed_at)
-        path.problem.restore(open_state["state"])
-        path.set_load(low)
         path.advance(low, mid, mid - low)
         row = model.observe("load", mid)
         if closed(row):
-            closed_at, closed_state = mid, path.problem.save()
+            closed_at, closed_state = mid, path.mark(mid)
             rows[-1] = row
         else:
-            low = mid
-            open_state.update(eps=mid, state=path.problem.save())
-    path.problem.restore(closed_state)
-    path.set_load(closed_at)
+            open_state = path.mark(mid)
+    path.rewind(closed_state)
     return closed_at
 
 

@@ -1,0 +1,236 @@
+r"""Frictionless self-contact of a boundary curve of an axisymmetric solid (penalty).
+
+A wall that creases, or a stiff lining that folds, must not pass through
+itself. The boundary's nodes (the P2 nodes of its facets, joined into straight
+segments) are checked against every segment that is not at or next to them:
+a node p that has passed behind a segment (a, b) by the signed gap
+
+.. math:: g = \frac{(b - a) \times (p - a)}{|b - a|} < 0,
+
+(positive on the free side of the segment) is pushed back by the energy
+
+.. math:: \Pi_c = \sum_p \tfrac{k}{2}\, w_p \langle -g_p \rangle^2, \qquad
+          k = c_k\,\mu / L_{ab},\quad w_p = 2\pi R_p\,\ell_p,
+
+with ℓ_p the reference length that node p stands for. The penalty makes the
+penetration O(μ/k) = O(L/c_k) of the contact pressure over μ. A pair counts
+only when p projects onto the segment, faces it (opposite normals) and lies
+less than ``depth`` L behind it, so that a sharp fold of the solid (the
+solid, not the free side, inside the fold) is not taken for contact.
+
+The pairs couple boundary nodes far apart in the mesh, so this term is not a
+UFL form: it adds its residual and exact Hessian (frozen pairs) to the
+assembled system through the problem's ``add_residual``/``add_jacobian``
+hooks, on the nodes each rank owns. Small boundaries only: detection is
+all-pairs on the gathered boundary (O(10^2) nodes for a crater wall).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from bcfem.params import require
+
+_ROT = np.array([[0.0, -1.0], [1.0, 0.0]])  # d -> d_perp = (-d_z, d_r)
+
+
+def gap(p, a, b):
+    """Signed distance of p from the line of segment (a, b), > 0 on its free side
+    (to the left of b - a), and the parameter of p's projection (0 at a, 1 at b).
+    All arguments (n, 2)."""
+    d, v = b - a, p - a
+    length2 = np.einsum("ij,ij->i", d, d)
+    length = np.sqrt(length2)
+    cross = d[:, 0] * v[:, 1] - d[:, 1] * v[:, 0]
+    return cross / length, np.einsum("ij,ij->i", d, v) / length2
+
+
+def gap_derivatives(p, a, b):
+    """Gradient (6,) and Hessian (6, 6) of the gap of one node p against segment (a, b),
+    in the unknowns (p, a, b)."""
+    d, v = b - a, p - a
+    L = math.hypot(*d)
+    c = d[0] * v[1] - d[1] * v[0]
+    dperp = _ROT @ d
+    s = np.array([v[1], -v[0]])
+    g_v = dperp / L
+    g_d = s / L - c * d / L**3
+    H_vd = _ROT / L - np.outer(dperp, d) / L**3
+    H_dd = (-np.outer(s, d) - np.outer(d, s) - c * np.eye(2)) / L**3 + 3 * c * np.outer(d, d) / L**5
+    H = np.block([[np.zeros((2, 2)), H_vd], [H_vd.T, H_dd]])
+    I, Z = np.eye(2), np.zeros((2, 2))
+    T = np.block([[I, -I, Z], [Z, -I, I]])  # (v, d) = T (p, a, b)
+    return T.T @ np.concatenate([g_v, g_d]), T.T @ H @ T
+
+
+class WallSelfContact:
+    """Penalty self-contact of the boundary part ``boundary`` (a facet tag).
+
+    Args:
+        facet_tags: the mesh's facet tags.
+        boundary: tag of the boundary that may touch itself.
+        modulus: shear modulus of the stiffest material at that boundary (sets k).
+        penalty: c_k, the penalty over μ/L (penetration ~ contact pressure / (c_k μ) L).
+        depth: the deepest penetration taken for contact, in segment lengths.
+    """
+
+    is_discrete = True
+
+    def __init__(self, facet_tags, boundary: int, modulus: float, penalty: float = 1e3, depth: float = 0.25):
+        require(modulus > 0, f"self-contact modulus must be > 0 (got {modulus})")
+        require(penalty > 0, f"self-contact penalty must be > 0 (got {penalty})")
+        require(0 < depth < 1, f"self-contact depth must be in (0, 1) segment lengths (got {depth})")
+        self.facet_tags, self.boundary = facet_tags, boundary
+        self.modulus, self.penalty, self.depth = modulus, penalty, depth
+        self.active = 0  # pairs in contact at the last evaluation
+
+    # -- set-up ---------------------------------------------------------------------------
+    def bind(self, problem) -> None:
+        """Find the boundary's nodes and segments and their global unknowns (once)."""
+        u = problem.ctx.u
+        V = u.function_space
+        msh = V.mesh
+        comm = msh.comm
+        self.u, self.comm, self.scale = u, comm, problem.inverse_scale
+        index = problem.global_indices("displacement")  # unrolled local dof -> global row
+        fixed = problem.constrained("displacement")
+        X = V.tabulate_dof_coordinates()[:, :2]
+        owned_blocks = V.dofmap.index_map.size_local
+        msh.topology.create_connectivity(1, 2)
+        f_to_c = msh.topology.connectivity(1, 2)
+        segments, nodes, midpoints = [], {}, set()
+        for f in self.facet_tags.find(self.boundary):
+            blocks = fem.locate_dofs_topological(V, 1, np.array([f], dtype=np.int32), remote=False)
+            pts = X[blocks]
+            far = max(((i, j) for i in range(3) for j in range(i + 1, 3)),
+                      key=lambda ij: np.linalg.norm(pts[ij[0]] - pts[ij[1]]))
+            mid = 3 - sum(far)
+            cell_blocks = V.dofmap.cell_dofs(f_to_c.links(f)[0])
+            inward = X[cell_blocks].mean(axis=0) - pts[mid]  # towards the solid
+            chain = [blocks[far[0]], blocks[mid], blocks[far[1]]]
+            midpoints.add(index[2 * blocks[mid]])
+            for k0, k1 in zip(chain[:-1], chain[1:]):
+                d = X[k1] - X[k0]
+                if d[0] * inward[1] - d[1] * inward[0] > 0:  # solid on the left: swap
+                    k0, k1 = k1, k0
+                segments.append((index[2 * k0], index[2 * k1]))
+            for k in chain:
+                nodes[index[2 * k]] = (index[2 * k + 1], *X[k], k < owned_blocks, fixed[2 * k], fixed[2 * k + 1])
+        # every rank holds the whole boundary: nodes by their global r-row
+        all_nodes = {}
+        for part in comm.allgather(nodes):
+            for key, (zrow, r, z, owned, fr, fz) in part.items():
+                entry = all_nodes.setdefault(key, [zrow, r, z, False, fr, fz])
+                entry[4], entry[5] = entry[4] or fr, entry[5] or fz
+        rows = np.array(sorted(all_nodes), dtype=np.int64)
+        position = {row: i for i, row in enumerate(rows)}
+        table = np.array([all_nodes[row] for row in rows], dtype=float).reshape(-1, 6)
+        self.rows = np.column_stack([rows, table[:, 0].astype(np.int64)])  # (n, 2) global rows (r, z)
+        self.fixed = table[:, 4:6].astype(bool)
+        self.X = table[:, 1:3]
+        pairs = {tuple(s) for part in comm.allgather(segments) for s in part}
+        self.segments = np.array(sorted((position[a], position[b]) for a, b in pairs), dtype=np.int64).reshape(-1, 2)
+        # owned nodes: this rank computes their pairs and sends their positions
+        local_rows = {index[2 * k]: k for k in range(owned_blocks)}
+        self.owned = np.array([i for i, row in enumerate(rows) if row in local_rows], dtype=np.int64)
+        self.owned_blocks = np.array([local_rows[rows[i]] for i in self.owned], dtype=np.int64)
+        lengths = np.linalg.norm(self.X[self.segments[:, 1]] - self.X[self.segments[:, 0]], axis=1)
+        self.segment_length = lengths
+        # Simpson's weights on each P2 facet (1/6, 4/6, 1/6 of its length): the nodal forces of a
+        # uniform contact pressure are then those of the finite element
+        middle = np.zeros(len(rows), dtype=bool)
+        middle[[position[m] for part in comm.allgather(midpoints) for m in part]] = True
+        share = np.zeros(len(rows))
+        for end in (0, 1):
+            np.add.at(share, self.segments[:, end], np.where(middle[self.segments[:, end]], 2, 1) * lengths / 3)
+        self.weight = 2 * math.pi * self.X[:, 0] * share
+        n = len(rows)
+        # a node projects onto a segment for xi in [0, 1); past the free end of the boundary
+        # (a node where only one segment meets) the segment counts half a length further,
+        # so that a node pressed at the very end does not drop out of contact
+        ends = np.bincount(self.segments.reshape(-1), minlength=n) == 1
+        self.xi_min = np.where(ends[self.segments[:, 0]], -0.5, 0.0)
+        self.xi_max = np.where(ends[self.segments[:, 1]], 1.5, 1.0)
+        # a node never touches a segment at or next to it
+        neighbours = [set() for _ in range(n)]
+        for a, b in self.segments:
+            neighbours[a].update((a, b))
+            neighbours[b].update((a, b))
+        self.excluded = np.zeros((n, len(self.segments)), dtype=bool)
+        for s, (a, b) in enumerate(self.segments):
+            for i in neighbours[a] | neighbours[b]:
+                self.excluded[i, s] = True
+        problem.allow_new_nonzeros()
+
+    # -- evaluation -----------------------------------------------------------------------
+    def _positions(self) -> np.ndarray:
+        """Current positions of all boundary nodes, on every rank."""
+        disp = self.u.x.array.reshape(-1, 2)[self.owned_blocks]
+        gathered = self.comm.allgather((self.owned, disp))
+        x = self.X.copy()
+        for nodes, d in gathered:
+            x[nodes] += d
+        return x
+
+    def pairs(self, x: np.ndarray):
+        """The contacts of this rank's nodes: (node, segment, gap) arrays."""
+        seg = self.segments
+        a, b = x[seg[:, 0]], x[seg[:, 1]]
+        d = b - a
+        length = np.linalg.norm(d, axis=1)
+        seg_normal = (_ROT @ d.T).T / length[:, None]
+        node_normal = np.zeros_like(x)
+        np.add.at(node_normal, seg[:, 0], seg_normal)
+        np.add.at(node_normal, seg[:, 1], seg_normal)
+        nodes = self.owned
+        if nodes.size == 0 or seg.size == 0:
+            empty = np.zeros(0, dtype=np.int64)
+            return empty, empty, np.zeros(0)
+        P = np.repeat(nodes, len(seg))
+        S = np.tile(np.arange(len(seg)), nodes.size)
+        g, xi = gap(x[P], a[S], b[S])
+        facing = np.einsum("ij,ij->i", node_normal[P], seg_normal[S]) < 0
+        hit = ((g <= 0) & (g > -self.depth * length[S]) & (xi >= self.xi_min[S]) & (xi < self.xi_max[S]) & facing
+               & ~self.excluded[P, S] & (self.weight[P] > 0))
+        return P[hit], S[hit], g[hit]
+
+    def _contributions(self, with_hessian: bool):
+        x = self._positions()
+        P, S, g = self.pairs(x)
+        self.active = self.comm.allreduce(len(P), op=MPI.SUM)
+        for p, s, gp in zip(P, S, g):
+            a, b = self.segments[s]
+            k = self.penalty * self.modulus / self.segment_length[s] * self.weight[p]
+            grad, hess = gap_derivatives(x[p], x[a], x[b])
+            rows = self.rows[[p, a, b]].reshape(-1)
+            free = ~self.fixed[[p, a, b]].reshape(-1)
+            scale = float(self.scale.value)
+            force = scale * k * gp * grad
+            tangent = scale * k * (np.outer(grad, grad) + gp * hess) if with_hessian else None
+            yield rows, free, force, tangent
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        """b += dΠ_c/du (free rows only; Dirichlet rows hold their own equation)."""
+        for rows, free, force, _ in self._contributions(False):
+            b.setValues(rows[free].astype(PETSc.IntType), force[free], addv=PETSc.InsertMode.ADD_VALUES)
+        b.assemblyBegin()
+        b.assemblyEnd()
+
+    def add_jacobian(self, A: PETSc.Mat) -> None:
+        """A += d²Π_c/du² (free rows and columns only)."""
+        for rows, free, _, tangent in self._contributions(True):
+            idx = rows[free].astype(PETSc.IntType)
+            A.setValues(idx, idx, tangent[np.ix_(free, free)], addv=PETSc.InsertMode.ADD_VALUES)
+        A.assemble()
+
+    def energy_value(self) -> float:
+        """Π_c at the current state (summed over ranks)."""
+        x = self._positions()
+        P, S, g = self.pairs(x)
+        k = self.penalty * self.modulus / self.segment_length[S] * self.weight[P]
+        return self.comm.allreduce(float(np.sum(0.5 * k * g**2)), op=MPI.SUM)

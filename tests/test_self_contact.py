@@ -1,0 +1,171 @@
+"""Self-contact (bcfem.self_contact): exact derivatives, and two blocks pressed together."""
+
+import math
+
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from bcfem.context import Context
+from bcfem.energies import SolidStrain
+from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.mpi import global_sum
+from bcfem.problem import Problem
+from bcfem.self_contact import WallSelfContact, gap, gap_derivatives
+from bcfem.solid import AxisymmetricSolid
+from helpers import exact_nominal_stress
+
+RADIUS, LOWER, SLOT, UPPER = 1.0, 1.0, 0.05, 1.5
+SIZES = (0.25, 0.18)  # the two blocks' meshes do not match at the contact
+KAPPA, PENALTY = 1e4, 3e2
+CONTACT, AXIS, BOTTOM, TOP, OTHER = 10, 11, 12, 13, 14
+
+
+def test_gap_derivatives_match_finite_differences():
+    rng = np.random.default_rng(1)
+    z = rng.normal(size=6)
+    grad, hess = gap_derivatives(z[:2], z[2:4], z[4:])
+
+    def g(z):
+        return gap(z[None, :2], z[None, 2:4], z[None, 4:])[0][0]
+
+    h = 1e-6
+    eye = np.eye(6)
+    fd_grad = np.array([(g(z + h * e) - g(z - h * e)) / (2 * h) for e in eye])
+    fd_hess = np.array([(gap_derivatives(z[:2] + h * e[:2], z[2:4] + h * e[2:4], z[4:] + h * e[4:])[0]
+                         - gap_derivatives(z[:2] - h * e[:2], z[2:4] - h * e[2:4], z[4:] - h * e[4:])[0]) / (2 * h)
+                        for e in eye])
+    assert np.allclose(grad, fd_grad, atol=1e-8)
+    assert np.allclose(hess, fd_hess, atol=1e-7)
+    assert np.allclose(hess, hess.T)
+
+
+def stacked_blocks(comm):
+    """Two cylinders, one above the other with a slot between them; the slot's two faces
+    are one self-contact boundary."""
+    import gmsh
+    from dolfinx.io import gmsh as gmshio
+
+    if comm.rank == 0:
+        gmsh.initialize(interruptible=False)
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NumThreads", 1)
+        occ = gmsh.model.occ
+        lower = occ.addRectangle(0, 0, 0, RADIUS, LOWER)
+        upper = occ.addRectangle(0, LOWER + SLOT, 0, RADIUS, UPPER)
+        occ.synchronize()
+        for tag, size in zip((lower, upper), SIZES):
+            points = gmsh.model.getBoundary([(2, tag)], recursive=True)
+            gmsh.model.mesh.setSize(points, size)
+        gmsh.model.addPhysicalGroup(2, [lower, upper], 1)
+        groups = {CONTACT: [], AXIS: [], BOTTOM: [], TOP: [], OTHER: []}
+        for _, curve in gmsh.model.getEntities(1):
+            x = gmsh.model.occ.getCenterOfMass(1, curve)
+            if abs(x[0]) < 1e-9:
+                groups[AXIS].append(curve)
+            elif abs(x[1]) < 1e-9:
+                groups[BOTTOM].append(curve)
+            elif abs(x[1] - (LOWER + SLOT + UPPER)) < 1e-9:
+                groups[TOP].append(curve)
+            elif abs(x[1] - LOWER) < 1e-9 or abs(x[1] - LOWER - SLOT) < 1e-9:
+                groups[CONTACT].append(curve)
+            else:
+                groups[OTHER].append(curve)
+        for tag, curves in groups.items():
+            gmsh.model.addPhysicalGroup(1, curves, tag)
+        gmsh.model.mesh.generate(2)
+    data = gmshio.model_to_mesh(gmsh.model if comm.rank == 0 else None, comm, 0, gdim=2)
+    if comm.rank == 0:
+        gmsh.finalize()
+    return data
+
+
+def press(shortening: float, comm=MPI.COMM_WORLD):
+    """The top moves down by SLOT + shortening: the slot closes and both blocks are compressed
+    through the contact alone. Returns (nominal stress at the top, stretch of each block,
+    the slot's gap, pairs in contact, Newton iterations)."""
+    data = stacked_blocks(comm)
+    msh, facets = data.mesh, data.facet_tags
+    V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
+    u = fem.Function(V, name="displacement")
+    ctx = Context(u, AxisymmetricSolid(u, quadrature_degree=4, facet_tags=facets))
+    contact = WallSelfContact(facets, CONTACT, modulus=1.0, penalty=PENALTY)
+    terms = [SolidStrain(NearlyIncompressibleNeoHookean(mu=1.0, kappa=KAPPA)), contact]
+
+    def on(sub, tag, value=0.0):
+        space, _ = V.sub(sub).collapse()
+        g = fem.Function(space)
+        g.x.array[:] = value
+        return fem.dirichletbc(g, fem.locate_dofs_topological((V.sub(sub), space), 1, facets.find(tag)), V.sub(sub))
+
+    bcs = [on(0, AXIS), on(1, BOTTOM), on(1, TOP, -(SLOT + shortening))]
+    top = LOWER + SLOT + UPPER
+    # start from a homogeneous guess with the slot just closed (1e-3 overlap), so that
+    # Newton starts in contact
+    stretch0 = 1 - (shortening - 1e-3) / (LOWER + UPPER)
+    u.interpolate(lambda x: np.vstack([(stretch0**-0.5 - 1) * x[0],
+                                       np.where(x[1] < LOWER + SLOT / 2, (stretch0 - 1) * x[1],
+                                                top - SLOT - shortening - (top - x[1]) * stretch0 - x[1])]))
+    # a stiff penalty needs a line search that minimises along Newton's direction
+    with Problem(ctx, terms, bcs, "bcfem_test_self_contact_", {"snes_linesearch_type": "cp"}) as problem:
+        assert problem.solve(), problem.reason
+        iterations = problem.iterations
+        energy = terms[0].energy(ctx)
+        w = fem.Function(V)  # 1 on the top, 0 on the contact faces and the lower block
+        w.interpolate(lambda x: np.vstack([0 * x[0], np.clip((x[1] - LOWER - SLOT) / UPPER, 0, None)]))
+        force = global_sum(fem.form(ufl.derivative(energy, u, w)))
+        active = contact.active
+        x = contact._positions()
+        _, segments, gaps = contact.pairs(x)
+        depth = comm.allreduce(float(np.max(-gaps / contact.segment_length[segments], initial=0.0)), op=MPI.MAX)
+
+    def uz_at(z):
+        dofs = np.flatnonzero(np.isclose(V.tabulate_dof_coordinates()[:, 1], z))
+        local = u.x.array.reshape(-1, 2)[dofs, 1]
+        values = comm.allgather(local)
+        return float(np.mean(np.concatenate(values)))
+
+    lower_top, upper_bottom = uz_at(LOWER), uz_at(LOWER + SLOT)
+    stretch_lower = 1 + lower_top / LOWER
+    stretch_upper = (UPPER - (SLOT + shortening) - upper_bottom) / UPPER
+    gap_ = SLOT + upper_bottom - lower_top
+    return force / (math.pi * RADIUS**2), stretch_lower, stretch_upper, gap_, active, iterations, depth
+
+
+@pytest.mark.mpi
+def test_blocks_pressed_through_the_contact_match_uniaxial_compression():
+    """Node-to-segment contact of two non-matching P2 faces is over-constrained: the faces
+    take a slight waviness (about 1e-3 of the element size here), so the closed form holds
+    to 1e-3 rather than to round-off."""
+    stress, lam_lower, lam_upper, gap_, active, iterations, depth = press(0.25)
+    stretch = 1 - 0.25 / (LOWER + UPPER)  # no slot left, no penetration
+    # both blocks carry the same stress, so they have the same stretch
+    assert lam_lower == pytest.approx(lam_upper, abs=3e-4)
+    assert lam_upper == pytest.approx(stretch, abs=3e-4)
+    # and the top carries the closed-form uniaxial stress (eq. 7.4, nearly incompressible)
+    assert stress == pytest.approx(exact_nominal_stress(stretch, KAPPA), rel=2e-3)
+    assert active > 0
+    # the penalty keeps the faces apart: no node deeper than 1e-2 of a segment
+    assert 0 < depth < 1e-2
+    assert iterations <= 12
+
+
+@pytest.mark.mpi
+def test_open_slot_has_no_contact():
+    stress, lam_lower, lam_upper, gap_, active, _, depth = press(-0.02)  # the top moves down 0.03: 0.02 of the slot stays open
+    assert active == 0 and depth == 0
+    assert lam_lower == pytest.approx(1.0, abs=1e-12)
+    assert gap_ == pytest.approx(0.02, abs=1e-12)
+    assert stress == pytest.approx(0.0, abs=1e-12)
+
+
+@pytest.mark.mpi
+def test_contact_is_rank_count_invariant():
+    """On 2 ranks the contact pairs span ranks; the result is the serial one."""
+    here = press(0.25)
+    alone = press(0.25, MPI.COMM_SELF)
+    assert here[4] == alone[4]  # the same pairs in contact
+    for a, b in zip(here[:4], alone[:4]):
+        assert a == pytest.approx(b, rel=1e-8, abs=1e-11)
