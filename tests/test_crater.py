@@ -83,6 +83,7 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
     (["--preload", "open"], "preload"),
     (["--strain-step", "0"], "strain-step"),
     (["--surface-energy", "0.5"], "surface-energy"),
+    (["--self-contact", "5"], "self-contact"),
 ])
 def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
     out = tmp_path / "bad"

@@ -19,8 +19,8 @@ closes (V1 = 0) leaves a vacuum.
 
 Past a preload of about 0.15 the crater wall near the rim, and under suction
 the whole wall, reaches rubber's creasing strain. Creases have no length scale
-of their own, so without one they form at the mesh scale and, with no
-self-contact in the model, fold through themselves. A surface energy γ on the
+of their own, so without one they form at the mesh scale. The wall may not
+pass through itself (penalty self-contact, :mod:`bcfem.self_contact`). A surface energy γ on the
 crater wall (``surface_energy`` = γ/(μa), default 0.01, physical PDMS 7e-5)
 gives creases a length scale; its effect on F~ is measured by halving it
 (docs/benchmarks/crater-air.md). Loss of (axisymmetric) stability is detected
@@ -69,7 +69,8 @@ Units and normalisations:
 The wall is in frictionless contact with the plate. surface_energy (gamma over
 mu a) on the crater wall regularises creasing; instabilities (the tangent's
 inertia) and snaps (steps passed by pseudo-time relaxation) are reported in
-summary.json. Not modelled: self-contact of the wall, non-axisymmetric modes."""
+summary.json. The wall does not pass through itself (penalty self-contact).
+Not modelled: non-axisymmetric modes."""
 HELP = {
     "fluid": "crater fluid: air (ideal gas, p V = p_a V1) or liquid (incompressible, V = V1)",
     "alpha": "crater aspect b/a, in (0, 1]",
@@ -432,8 +433,9 @@ def classify(events) -> str:
 
 def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisections: int = 10) -> float:
     """Stage 1 up to the smallest preload that closes the crater, eps_m (to a 2^-bisections
-    fraction of the last step): load until the crater is closed, then bisect between the
-    last open and the first closed state. Closed: V1 <= ``CLOSURE_VOLUME`` V0, or the wall
+    fraction of the last step, or to the bracket where a snap-through closure stops the
+    bisection): load until the crater is closed, then bisect between the last open and
+    the first closed state. Closed: V1 <= ``CLOSURE_VOLUME`` V0, or the wall
     lies on the plate up to the axis (A1 <= ``CLOSED_AREA`` A0) with at most
     ``TRAPPED_VOLUME`` V0 left in pockets (a wall that folds onto the plate, e.g. a thin
     stiff layer, traps pockets that never close). Stage 2 neglects the remnant, which
@@ -461,7 +463,12 @@ def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisec
     for _ in range(bisections):
         low = path.rewind(open_state)
         mid = 0.5 * (low + closed_at)
-        path.advance(low, mid, mid - low)
+        try:
+            path.advance(low, mid, mid - low)
+        except SteppingError:
+            # the crater snaps shut inside the bracket and Newton cannot follow: eps_m is
+            # known to within the bracket [low, closed_at]
+            break
         row = model.observe("load", mid)
         if closed(row):
             closed_at, closed_state = mid, path.mark(mid)
