@@ -33,7 +33,21 @@ def _float(text: str) -> float:
     return value
 
 
-def _add_params(parser, params_cls, help_text: dict) -> None:
+class _Range(str):
+    """A sweep flag's ``start:stop:step`` (e.g. ``--preload 0:0.5:0.025``): a grid axis."""
+
+
+def _range_or(convert):
+    def parse(text: str):
+        return _Range(text) if ":" in text else convert(text)
+
+    parse.__name__ = f"start:stop:step or {convert.__name__}"
+    return parse
+
+
+def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> None:
+    """One flag per field of ``params_cls``; with ``ranges`` a float flag also takes
+    ``start:stop:step`` (a sweep axis)."""
     defaults = params_cls()
     for f in dataclasses.fields(params_cls):
         default = getattr(defaults, f.name)
@@ -51,6 +65,8 @@ def _add_params(parser, params_cls, help_text: dict) -> None:
         words = getattr(params_cls, "WORDS", {}).get(f.name)
         if words:  # named values, e.g. --preload closure
             kwargs["type"] = _words_or(words, kwargs["type"])
+        if ranges and kind is float:
+            kwargs["type"] = _range_or(kwargs["type"])
         parser.add_argument(flag, dest=f.name, **kwargs)
 
 
@@ -88,9 +104,11 @@ def build_parser():
         module = REGISTRY[name]
         p = sweeps.add_parser(name, help=f"maps {studies.SWEEP['title']}", description=module.DESCRIPTION,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, module.HELP)
-        p.add_argument("--grid", action="append", required=True, metavar="NAME=START:STOP:COUNT",
-                       help="a grid axis (repeat for each axis; two axes give contour maps)")
+        _add_params(p, module.Params, module.HELP, ranges=True)
+        p.add_argument("--grid", action="append", default=[], metavar="NAME=START:STOP:COUNT",
+                       help="a grid axis: NAME=START:STOP:COUNT or NAME=V1,V2,... (repeat for each axis; "
+                            "two axes give contour maps); a parameter flag given as START:STOP:STEP "
+                            "(e.g. --preload 0:0.5:0.025) is an axis too")
         p.add_argument("--out", type=Path, default=Path("results") / f"{name}-sweep")
         p.add_argument("--quiet", action="store_true")
         p.add_argument("--retry-failed", action="store_true",
@@ -134,6 +152,9 @@ def main(argv: list[str] | None = None) -> int:
     module = REGISTRY[args.scene]
     values = {f.name: getattr(args, f.name) for f in dataclasses.fields(module.Params)
               if hasattr(args, f.name)}
+    # sweep axes given as --name start:stop:step; the Params hold the default there
+    args.ranges = {k: str(v) for k, v in values.items() if isinstance(v, _Range)}
+    values = {k: v for k, v in values.items() if k not in args.ranges}
     try:
         params = module.Params(**values)
     except ValueError as err:
@@ -173,6 +194,9 @@ def _sweep(parser, args, module, params, comm) -> int:
     studies = STUDIES[args.scene]
     try:
         axes = [sweep.parse_axis(text) for text in args.grid]
+        axes += [(name, sweep.parse_range(name, spec)) for name, spec in args.ranges.items()]
+        if not axes:
+            raise ValueError("no grid axis: give --grid NAME=... or a parameter as START:STOP:STEP")
         points = sweep.grid_points(params, axes)
     except ValueError as err:
         parser.exit(2, f"bcfem sweep {args.scene}: error: {err}\n" if comm.rank == 0 else "")

@@ -43,6 +43,20 @@ def parse_axis(text: str) -> tuple[str, np.ndarray]:
     return name, np.array([float(v) for v in spec.split(",")])
 
 
+def parse_range(name: str, spec: str) -> np.ndarray:
+    """``start:stop:step``, both ends included (e.g. ``0:0.5:0.025``, 21 values)."""
+    try:
+        start, stop, step = (float(v) for v in spec.split(":"))
+    except ValueError:
+        raise ValueError(f"{name}: need start:stop:step (got {spec!r})") from None
+    if step <= 0 or stop < start:
+        raise ValueError(f"{name}: need step > 0 and stop >= start (got {spec!r})")
+    count = round((stop - start) / step)
+    if abs(start + count * step - stop) > 1e-9 * max(1.0, abs(stop)):
+        raise ValueError(f"{name}: the steps of {step:g} from {start:g} miss {stop:g}")
+    return start + step * np.arange(count + 1)
+
+
 def point_key(values: dict, params=None) -> str:
     """File name of a point: its grid values, plus a digest of every other parameter, so a
     rerun with different settings never reuses stale points."""

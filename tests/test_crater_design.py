@@ -51,8 +51,9 @@ def test_closure_preload_brackets_the_first_closed_state(hemisphere_to_closure):
 
 def test_sweep_is_rank_count_invariant(tmp_path):
     """`bcfem sweep crater` gives the same CSV on 1 and 2 ranks (each point is a serial
-    cycle); the stability class is part of it."""
-    grid = ["sweep", "crater", "--grid", "alpha=0.5,1", "--grid", "layer_stiffness=1,10", "--layer-thickness",
+    cycle); the stability class is part of it. The alpha axis is given the issue's way,
+    as a flag with start:stop:step."""
+    grid = ["sweep", "crater", "--alpha", "0.5:1:0.5", "--grid", "layer_stiffness=1,10", "--layer-thickness",
             "0.05", "--preload", "0.05", "--size-crater", "0.12", "--quiet"]
     csv = {}
     for ranks in (1, 2):

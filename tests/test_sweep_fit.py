@@ -1,6 +1,7 @@
 """Sweeps (rank-count invariant, resumable, failures kept) and the inverse fit."""
 
 
+import numpy as np
 import pytest
 from mpi4py import MPI
 
@@ -61,12 +62,24 @@ def test_a_failed_point_is_recorded_not_dropped(tmp_path):
     assert [r["status"] for r in rows] == ["ok", "ok", "ok"] and calls == [1.0] and rows[1]["value"] == 2.0
 
 
+def test_a_flag_with_start_stop_step_is_an_axis():
+    assert np.allclose(sweep.parse_range("preload", "0:0.5:0.025"), np.linspace(0, 0.5, 21))
+    assert np.allclose(sweep.parse_range("alpha", "0.5:1:0.5"), [0.5, 1.0])
+    for bad in ("0:0.5:0.3", "0:0.5:0", "1:0:0.1", "0:x:1"):
+        with pytest.raises(ValueError, match="alpha"):
+            sweep.parse_range("alpha", bad)
+
+
 def test_bad_grid_exits_2(tmp_path):
     res = bcfem("sweep", "blister-rigid", "--grid", "nonsense=1:2:3", "--out", str(tmp_path / "x"))
     assert res.returncode == 2 and "nonsense" in res.stderr
     res = bcfem("sweep", "blister-rigid", "--grid", "alpha=-1:2:3", "--out", str(tmp_path / "y"))
     assert res.returncode == 2 and "alpha" in res.stderr
-    assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
+    res = bcfem("sweep", "blister-rigid", "--alpha", "0:1:0.3", "--out", str(tmp_path / "z"))
+    assert res.returncode == 2 and "alpha" in res.stderr
+    res = bcfem("sweep", "blister-rigid", "--out", str(tmp_path / "w"))
+    assert res.returncode == 2 and "no grid axis" in res.stderr
+    assert not any((tmp_path / d).exists() for d in "xyzw")
 
 
 def test_fit_recovers_known_parameters():
