@@ -31,6 +31,16 @@ def test_small_preload_approaches_eshelby():
     assert deviations[1] < 0.005
 
 
+@pytest.mark.parametrize("fluid", ["air", "liquid"])
+def test_zero_preload_is_a_cycle_with_zero_force(fluid):
+    """The sweep of Fig. 7.6 starts at eps = 0: nothing to unload, F = 0, the fluid at p_a."""
+    rows, summary = crater.solve(crater.Params(fluid=fluid, preload=0.0, size_crater=0.12), MPI.COMM_WORLD)
+    assert summary["F_tilde"] == 0.0 and summary["eps_at_zero_force"] == 0.0
+    assert summary["p2_over_pa"] == pytest.approx(1.0, abs=1e-12)
+    assert summary["V2_over_V0"] == pytest.approx(1.0, abs=1e-6)  # the volume at rest, to the geometry's quadrature
+    assert [r["stage"] for r in rows] == ["load", "unload"]
+
+
 def test_liquid_small_preload_approaches_eshelby():
     """Incompressible liquid (ch. 8): V2 = V1, and Eshelby's Delta V1 = Delta V2 gives
     Delta p = -eps mu, so F~ = beta eps (eq. 8.6) as eps -> 0."""

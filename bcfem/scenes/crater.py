@@ -341,8 +341,13 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
             return False
 
         # past a snap the specimen can still push at eps = 0: the platen then lifts further
-        reached = _through(path, preload, -MAX_LIFT, params.strain_step, accept)
-        if global_sum(platen_force) < 0:
+        # a force below round-off counts as zero: at eps = 0 there is nothing to unload
+        round_off = -1e-10 * math.pi * params.specimen_radius**2 * max(1.0, params.beta)
+        if global_sum(platen_force) >= round_off:
+            reached = preload
+        else:
+            reached = _through(path, preload, -MAX_LIFT, params.strain_step, accept)
+        if global_sum(platen_force) < round_off:
             raise SteppingError(f"unload: the platen force is still compressive at eps = {reached:.4g}", reached)
         if reached < 0:
             events.append({"stage": "unload", "eps": reached, "kind": "lift", "unstable": None,
