@@ -120,18 +120,18 @@ class WallSelfContact:
                     k0, k1 = k1, k0
                 segments.append((index[2 * k0], index[2 * k1]))
             for k in chain:
-                nodes[index[2 * k]] = (index[2 * k + 1], *X[k], k < owned_blocks, fixed[2 * k], fixed[2 * k + 1])
+                nodes[index[2 * k]] = (index[2 * k + 1], *X[k], fixed[2 * k], fixed[2 * k + 1])
         # every rank holds the whole boundary: nodes by their global r-row
         all_nodes = {}
         for part in comm.allgather(nodes):
-            for key, (zrow, r, z, owned, fr, fz) in part.items():
-                entry = all_nodes.setdefault(key, [zrow, r, z, False, fr, fz])
-                entry[4], entry[5] = entry[4] or fr, entry[5] or fz
+            for key, (zrow, r, z, fr, fz) in part.items():
+                entry = all_nodes.setdefault(key, [zrow, r, z, fr, fz])
+                entry[3], entry[4] = entry[3] or fr, entry[4] or fz
         rows = np.array(sorted(all_nodes), dtype=np.int64)
         position = {row: i for i, row in enumerate(rows)}
-        table = np.array([all_nodes[row] for row in rows], dtype=float).reshape(-1, 6)
+        table = np.array([all_nodes[row] for row in rows], dtype=float).reshape(-1, 5)
         self.rows = np.column_stack([rows, table[:, 0].astype(np.int64)])  # (n, 2) global rows (r, z)
-        self.fixed = table[:, 4:6].astype(bool)
+        self.fixed = table[:, 3:5].astype(bool)
         self.X = table[:, 1:3]
         pairs = {tuple(s) for part in comm.allgather(segments) for s in part}
         self.segments = np.array(sorted((position[a], position[b]) for a, b in pairs), dtype=np.int64).reshape(-1, 2)
@@ -227,10 +227,3 @@ class WallSelfContact:
             idx = rows[free].astype(PETSc.IntType)
             A.setValues(idx, idx, tangent[np.ix_(free, free)], addv=PETSc.InsertMode.ADD_VALUES)
         A.assemble()
-
-    def energy_value(self) -> float:
-        """Π_c at the current state (summed over ranks)."""
-        x = self._positions()
-        P, S, g = self.pairs(x)
-        k = self.penalty * self.modulus / self.segment_length[S] * self.weight[P]
-        return self.comm.allreduce(float(np.sum(0.5 * k * g**2)), op=MPI.SUM)
