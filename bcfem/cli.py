@@ -202,16 +202,17 @@ def _sweep(parser, args, module, params, comm) -> int:
         parser.exit(2, f"bcfem sweep {args.scene}: error: {err}\n" if comm.rank == 0 else "")
     configure(comm, quiet=args.quiet)
     rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm, retry_failed=args.retry_failed)
-    if len(axes) == 1:
-        sweep.curves(rows, axes[0][0], studies.SWEEP["maps"], f"{args.scene}: {studies.SWEEP['title']}",
-                     args.out / "curves.png", comm)
-    if len(axes) == 2:
-        sweep.contour_maps(rows, axes[0][0], axes[1][0], studies.SWEEP["maps"],
-                           f"{args.scene}: {studies.SWEEP['title']}", args.out / "maps.png", comm)
+    title = f"{args.scene}: {studies.SWEEP['title']}"
+    varying = [name for name, values in axes if len(values) > 1]  # one-value axes are constants
+    plot = {1: "curves.png", 2: "maps.png"}.get(len(varying))
+    if len(varying) == 1:
+        sweep.curves(rows, varying[0], studies.SWEEP["maps"], title, args.out / plot, comm)
+    elif len(varying) == 2:
+        sweep.contour_maps(rows, *varying, studies.SWEEP["maps"], title, args.out / plot, comm)
     if comm.rank == 0:
         failed = sum(r["status"] != "ok" for r in rows)
         print(f"wrote {args.out / 'sweep.csv'} ({len(rows)} points, {failed} failed)"
-              + (f" and {args.out / ('maps.png' if len(axes) == 2 else 'curves.png')}" if len(axes) <= 2 else ""))
+              + (f" and {args.out / plot}" if plot else ""))
     return 0
 
 

@@ -157,12 +157,15 @@ def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str
             value = r.get(column)
             if r["status"] == "ok" and value is not None:
                 Z[ys.index(r[y]), xs.index(r[x])] = value
-        cs = ax.contourf(xs, ys, Z, levels=14, cmap="viridis")
-        ax.contour(xs, ys, Z, levels=cs.levels, colors="k", linewidths=0.3)
-        fig.colorbar(cs, ax=ax)
         ax.set_title(label, fontsize=9)
         ax.set_xlabel(x)
         ax.set_ylabel(y)
+        if np.isnan(Z).all():
+            ax.text(0.5, 0.5, "no converged point", ha="center", va="center", transform=ax.transAxes)
+            continue
+        cs = ax.contourf(xs, ys, Z, levels=14, cmap="viridis")
+        ax.contour(xs, ys, Z, levels=cs.levels, colors="k", linewidths=0.3)
+        fig.colorbar(cs, ax=ax)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     io.save_figure(fig, path, comm)

@@ -62,6 +62,18 @@ def test_a_failed_point_is_recorded_not_dropped(tmp_path):
     assert [r["status"] for r in rows] == ["ok", "ok", "ok"] and calls == [1.0] and rows[1]["value"] == 2.0
 
 
+def test_maps_of_failed_points_and_one_value_axes(tmp_path):
+    """A sweep whose points all failed still draws its maps (blank panels), and an axis
+    with one value is a constant: the CLI then draws curves over the other axis."""
+    rows = [{"a": a, "b": b, "status": "failed", "reason": "x"} for a in (1.0, 2.0) for b in (3.0, 4.0)]
+    sweep.contour_maps(rows, "a", "b", [("F", "F")], "t", tmp_path / "maps.png")
+    assert (tmp_path / "maps.png").stat().st_size > 0
+    res = bcfem("sweep", "blister-rigid", "--grid", "alpha=0,1", "--grid", "adhesion=1", "--v-max", "2",
+                "--out", tmp_path / "one", "--quiet")
+    assert res.returncode == 0, res.stderr
+    assert (tmp_path / "one" / "curves.png").exists() and "2 points" in res.stdout
+
+
 def test_a_flag_with_start_stop_step_is_an_axis():
     assert np.allclose(sweep.parse_range("preload", "0:0.5:0.025"), np.linspace(0, 0.5, 21))
     assert np.allclose(sweep.parse_range("alpha", "0.5:1:0.5"), [0.5, 1.0])
