@@ -99,8 +99,8 @@ class Problem:
     def constrained(self, name: str) -> np.ndarray:
         """A mask of the local (unrolled) dofs of state ``name`` held by a Dirichlet condition."""
         space = self.ctx.states[name].function_space
-        mask = np.zeros(space.dofmap.index_map.size_local + space.dofmap.index_map.num_ghosts, dtype=bool)
-        mask = np.repeat(mask, space.dofmap.index_map_bs)
+        imap = space.dofmap.index_map
+        mask = np.zeros((imap.size_local + imap.num_ghosts) * space.dofmap.index_map_bs, dtype=bool)
         for bc in self.bcs:
             if space._cpp_object.contains(bc.function_space):
                 dofs, _ = bc.dof_indices()

@@ -51,7 +51,7 @@ class LoadPath:
         multipliers: names of multiplier states, for the stability count.
         cuts: halvings before giving up; cuts_before_relax: before relaxing.
         max_snaps: relaxations allowed along the path (a crease that keeps deepening
-            without self-contact would otherwise snap again at every step).
+            would otherwise snap again at every step).
         check_stability: count unstable modes after each accepted step.
     """
 
