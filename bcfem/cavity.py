@@ -2,24 +2,31 @@ r"""A cavity closed by the rigid plate z = 0: its current volume.
 
 The crater's current volume follows from its surface alone (divergence
 theorem with the field z e_z, which vanishes on the plate), mapped to the
-reference surface by Nanson's formula. In axisymmetry, with cof(F2) the
-in-plane cofactor and r = R + u_r,
+reference surface by Nanson's formula, n da = cof(F) N dA:
 
-.. math:: V(u) = -\int_\Gamma z\,(\mathrm{cof}(F_2) N)_z\, 2\pi r\, dS,
+.. math:: V(u) = -\int_\Gamma z\,(\mathrm{cof}(F) N)_z\, dA,
 
-with N the reference normal pointing out of the solid (into the cavity).
+with N the reference normal pointing out of the solid (into the cavity). The
+kinematics supply z, cof(F) N and the surface measure, so the same functional
+serves an axisymmetric state and its Fourier modes (:mod:`bcfem.modes`).
 """
 
 from __future__ import annotations
 
-import ufl
+from dataclasses import dataclass
 
 
-def cavity_volume_density(kin, normal):
-    """Current cavity volume per unit reference boundary length (the 2πr is included:
-    integrate over the cavity wall with a plain ``ds``)."""
-    F2 = ufl.as_matrix([[kin.F[0, 0], kin.F[0, 1]], [kin.F[1, 0], kin.F[1, 1]]])
-    cof = ufl.det(F2) * ufl.inv(F2).T
-    r = kin.x[0] + kin.u[0]
-    z = kin.x[1] + kin.u[1]
-    return -z * ufl.dot(cof, normal)[1] * 2 * ufl.pi * r
+@dataclass(frozen=True)
+class Cavity:
+    """The cavity bounded by the boundary part ``boundary`` and the plate z = 0.
+
+    Attributes:
+        boundary: facet tag of the cavity's wall.
+    """
+
+    boundary: int
+
+    def volume(self, kin):
+        """The current volume as a form over the wall (kinematics with ``height``,
+        ``nanson()`` and ``surface_integral``)."""
+        return kin.surface_integral(-kin.height * kin.nanson()[1], self.boundary)

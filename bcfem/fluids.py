@@ -39,12 +39,12 @@ class SealedFluid:
     """A fluid sealed at p = 1 in volume ``sealed_volume``.
 
     Attributes:
-        volume: the cavity's current-volume form density (e.g. cavity_volume_density * ds).
+        cavity: the cavity (:class:`bcfem.cavity.Cavity`): its current volume V(u).
         sealed_volume: V1, the volume at sealing (> 0).
         pressure_name: name of the pressure state.
     """
 
-    volume: object
+    cavity: object
     sealed_volume: float
     pressure_name: str = "fluid_pressure"
 
@@ -58,7 +58,7 @@ class IdealGas(SealedFluid):
 
     def energy(self, ctx):
         p, amount = self.unknowns(ctx)
-        return -(p - 1.0) * self.volume + _spread(ctx, amount * ufl.ln(p))
+        return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, amount * ufl.ln(p))
 
 
 class IncompressibleLiquid(SealedFluid):
@@ -69,17 +69,17 @@ class IncompressibleLiquid(SealedFluid):
         # a zero (p - 1)^2 term puts the pressure's diagonal into the sparsity pattern,
         # which PETSc's VI reduction and zeroRowsColumns need
         zero = ctx.constant("liquid_pressure_diagonal", 0.0)
-        return -(p - 1.0) * self.volume + _spread(ctx, (p - 1.0) * amount + zero * (p - 1.0) ** 2)
+        return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, (p - 1.0) * amount + zero * (p - 1.0) ** 2)
 
 
 @dataclass(frozen=True)
 class Vacuum:
     """An empty cavity: p = 0 inside, the ambient pressure's work s·V (s = ``vacuum_load``)."""
 
-    volume: object
+    cavity: object
 
     def energy(self, ctx):
-        return ctx.constant("vacuum_load", 0.0) * self.volume
+        return ctx.constant("vacuum_load", 0.0) * self.cavity.volume(ctx.kin)
 
 
 #: fluid name -> sealed fluid term

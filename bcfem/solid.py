@@ -45,6 +45,16 @@ class AxisymmetricSolid:
         T = ufl.as_vector([-N[1], N[0]])
         FT = ufl.as_vector([self.F[0, 0] * T[0] + self.F[0, 1] * T[1], self.F[1, 0] * T[0] + self.F[1, 1] * T[1]])
         self.surface_stretch = ufl.sqrt(ufl.inner(FT, FT)) * self.F[2, 2]
+        self.normal = N
+        #: current height z = Z + u_z
+        self.height = self.x[1] + u[1]
+
+    def nanson(self):
+        """cof(F) N on the boundary, components (r, z, theta): the current area vector per
+        reference area (F is block-diagonal, so cof(F) N = (F_tt cof(F2) N, 0))."""
+        F2 = ufl.as_matrix([[self.F[0, 0], self.F[0, 1]], [self.F[1, 0], self.F[1, 1]]])
+        n2 = self.F[2, 2] * ufl.det(F2) * ufl.dot(ufl.inv(F2).T, self.normal)
+        return ufl.as_vector([n2[0], n2[1], 0])
 
     def integral(self, density, region: int | None = None):
         """``density`` integrated over the reference body, dV = 2 pi r dA."""

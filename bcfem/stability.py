@@ -11,7 +11,8 @@ stability of the body. So the number of unstable directions of the energy
 counted from an LDLᵀ factorisation (MUMPS, ICNTL(13) = 1 so that the count is
 global under MPI). Unknowns held at a bound of a variational inequality
 (contact) are fixed for the count: the body cannot move into the obstacle.
-Only axisymmetric modes are seen by an axisymmetric model.
+Only axisymmetric modes are seen by an axisymmetric model; :mod:`bcfem.modes`
+checks the non-axisymmetric ones.
 """
 
 from __future__ import annotations
@@ -32,8 +33,20 @@ def unstable_modes(problem, multipliers: list[str], active_tol: float = 1e-9) ->
         start, _ = x.getOwnershipRange()
         rows = (np.flatnonzero(at_bound) + start).astype(PETSc.IntType)
         A.zeroRowsColumns(rows, diag=1.0)
+    try:
+        negative = negative_eigenvalues(A, problem.prefix + "inertia_")
+    finally:
+        A.destroy()
+    constraints = sum(problem.state(n).function_space.dofmap.index_map.size_global
+                      * problem.state(n).function_space.dofmap.index_map_bs
+                      for n in multipliers if n in problem.names)
+    return int(negative) - constraints
+
+
+def negative_eigenvalues(A: PETSc.Mat, prefix: str) -> int:
+    """The number of negative eigenvalues of the symmetric matrix ``A`` (all ranks), from
+    MUMPS' LDLᵀ factorisation; options under ``prefix`` (e.g. ``-PREFIX mat_mumps_icntl_14``)."""
     A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
-    prefix = problem.prefix + "inertia_"
     opts = PETSc.Options()
     opts[prefix + "mat_mumps_icntl_13"] = 1  # no ScaLAPACK root: global inertia
     opts[prefix + "mat_mumps_icntl_24"] = 1  # detect null pivots rather than fail
@@ -50,10 +63,6 @@ def unstable_modes(problem, multipliers: list[str], active_tol: float = 1e-9) ->
         negative, _, _ = pc.getFactorMatrix().getInertia()
     finally:
         ksp.destroy()
-        A.destroy()
         for key in ("mat_mumps_icntl_13", "mat_mumps_icntl_24"):
             opts.delValue(prefix + key)
-    constraints = sum(problem.state(n).function_space.dofmap.index_map.size_global
-                      * problem.state(n).function_space.dofmap.index_map_bs
-                      for n in multipliers if n in problem.names)
-    return int(negative) - constraints
+    return int(negative)

@@ -15,7 +15,9 @@ a target in adaptive steps:
   reported as a ``snap`` event;
 * after each accepted step the inertia of the tangent is checked
   (:func:`bcfem.stability.unstable_modes`); a change in the number of
-  unstable modes is reported as an event.
+  unstable modes is reported as an event, and so is a change in the set of
+  unstable non-axisymmetric wave numbers when a ``waves`` check is given
+  (:class:`bcfem.modes.ModeAnalysis`).
 
 Nothing unconverged is ever accepted; when every retry fails the stepper
 raises with the last accepted value.
@@ -53,6 +55,8 @@ class LoadPath:
         max_snaps: relaxations allowed along the path (a crease that keeps deepening
             would otherwise snap again at every step).
         check_stability: count unstable modes after each accepted step.
+        waves: None, or a callable giving {n: unstable modes with n waves} at the current
+            state (checked with the axisymmetric count).
     """
 
     problem: object
@@ -66,7 +70,9 @@ class LoadPath:
     check_stability: bool = True
     max_snaps: int = 6
     events: list = field(default_factory=list)
+    waves: Callable[[], dict] | None = None
     unstable: int = 0
+    unstable_waves: tuple = ()
     snaps: int = 0
 
     def solve_at(self, value: float) -> bool:
@@ -122,7 +128,7 @@ class LoadPath:
         """The accepted state at load ``value`` with the path's record (snaps, events,
         stability), to come back to with :meth:`rewind`."""
         return {"value": value, "state": self.problem.save(), "snaps": self.snaps,
-                "events": len(self.events), "unstable": self.unstable}
+                "events": len(self.events), "unstable": self.unstable, "waves": self.unstable_waves}
 
     def rewind(self, mark: dict) -> float:
         """Back to a :meth:`mark`: the state, the load and the record, so that trial paths
@@ -131,7 +137,7 @@ class LoadPath:
         self.problem.restore(mark["state"])
         self._saved = self.problem.save()
         self.set_load(mark["value"])
-        self.snaps, self.unstable = mark["snaps"], mark["unstable"]
+        self.snaps, self.unstable, self.unstable_waves = mark["snaps"], mark["unstable"], mark["waves"]
         del self.events[mark["events"]:]
         return mark["value"]
 
@@ -140,6 +146,8 @@ class LoadPath:
         self._saved = self.problem.save()
         if self.check_stability:
             self.unstable = unstable_modes(self.problem, self.multipliers)
+            if self.waves is not None:
+                self.unstable_waves = _unstable_waves(self.waves())
 
     def _check_stability(self, value: float) -> None:
         if not self.check_stability:
@@ -149,3 +157,28 @@ class LoadPath:
             self.events.append({"stage": self.stage, "eps": value, "kind": "stability", "unstable": unstable,
                                 "detail": f"unstable axisymmetric modes {self.unstable} -> {unstable}"})
             self.unstable = unstable
+        if self.waves is None:
+            return
+        counts = self.waves()
+        waves = _unstable_waves(counts)
+        if waves != self.unstable_waves:
+            self.events.append({"stage": self.stage, "eps": value, "kind": "waves", "unstable": sum(counts.values()),
+                                "waves": list(waves),
+                                "detail": f"unstable wave numbers n = {_ranges(self.unstable_waves)} -> {_ranges(waves)}"})
+            self.unstable_waves = waves
+
+
+def _unstable_waves(counts: dict) -> tuple:
+    return tuple(sorted(n for n, c in counts.items() if c > 0))
+
+
+def _ranges(waves) -> str:
+    """(2, 3, 4, 7) -> '2-4, 7'; () -> 'none'."""
+    parts, start = [], None
+    for i, n in enumerate(waves):
+        if start is None:
+            start = n
+        if i + 1 == len(waves) or waves[i + 1] != n + 1:
+            parts.append(f"{start}" if start == n else f"{start}-{n}")
+            start = None
+    return ", ".join(parts) or "none"

@@ -25,7 +25,10 @@ crater wall (``surface_energy`` = γ/(μa), default 0.01, physical PDMS 7e-5)
 gives creases a length scale; its effect on F~ is measured by halving it
 (docs/benchmarks/crater-air.md). Loss of (axisymmetric) stability is detected
 from the tangent's inertia after every step; a step Newton cannot reach is
-taken by pseudo-time relaxation (a snap), and both are reported.
+taken by pseudo-time relaxation (a snap), and both are reported. With
+``waves`` = N the non-axisymmetric Fourier modes n = 1..N are checked as well
+(:mod:`bcfem.modes`): the wave numbers that lose stability, and where, are
+reported as ``waves`` events (symmetry breaking).
 """
 
 from __future__ import annotations
@@ -38,12 +41,13 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from bcfem.cavity import cavity_volume_density
+from bcfem.cavity import Cavity
 from bcfem.context import Context
 from bcfem.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.fluids import FLUIDS, Vacuum
 from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, LAYER, SPECIMEN, TOP, CraterGeometry, create_mesh
 from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.modes import ModeAnalysis
 from bcfem.mpi import PointEvaluator, global_sum, real_value
 from bcfem.params import require
 from bcfem.problem import Problem
@@ -70,7 +74,9 @@ The wall is in frictionless contact with the plate. surface_energy (gamma over
 mu a) on the crater wall regularises creasing; instabilities (the tangent's
 inertia) and snaps (steps passed by pseudo-time relaxation) are reported in
 summary.json. The wall does not pass through itself (penalty self-contact).
-Not modelled: non-axisymmetric modes."""
+Non-axisymmetric deformation is not followed, but with --waves N its onset is
+detected: Fourier modes with n = 1..N waves around the axis are checked for
+stability after every step (events of kind 'waves')."""
 HELP = {
     "fluid": "crater fluid: air (ideal gas, p V = p_a V1) or liquid (incompressible, V = V1)",
     "alpha": "crater aspect b/a, in (0, 1]",
@@ -90,6 +96,8 @@ HELP = {
     "self_contact": "penalty of the crater wall's self-contact over mu/L (L: node spacing on the wall), "
                     "0 (off) or in [10, 1e4]; the penetration is about the contact pressure over "
                     "self_contact mu, in units of L",
+    "waves": "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step "
+             "(symmetry breaking), 0 (off) to 400",
 }
 #: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
 CLOSURE = -1.0
@@ -123,6 +131,7 @@ class Params:
     layer_thickness: float = 0.0
     layer_stiffness: float = 1.0
     self_contact: float = 100.0
+    waves: int = 0
 
     CHOICES = {"fluid": list(FLUIDS)}
     WORDS = {"preload": {"closure": CLOSURE}}
@@ -140,6 +149,8 @@ class Params:
                 f"layer-stiffness (mu_layer/mu) must be > 0 (got {self.layer_stiffness})")
         require(self.self_contact == 0 or 10 <= self.self_contact <= 1e4,
                 f"self-contact must be 0 (off) or in [10, 1e4] (got {self.self_contact})")
+        require(self.waves == int(self.waves) and 0 <= self.waves <= 400,
+                f"waves must be an integer in [0, 400] (got {self.waves})")
         require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
         self.geometry()  # validates alpha, radii and sizes before any meshing
 
@@ -182,9 +193,8 @@ class Crater:
                              if params.self_contact > 0 else None)
         self.strain = 0.0
         self.bcs = self._bcs(V, facets)
-        ds = ufl.Measure("ds", domain=msh, subdomain_data=facets, metadata={"quadrature_degree": 6})
-        self.volume_density = cavity_volume_density(self.ctx.kin, ufl.FacetNormal(msh)) * ds(CRATER)
-        self.volume = fem.form(self.volume_density)
+        self.cavity = Cavity(CRATER)
+        self.volume = fem.form(self.cavity.volume(self.ctx.kin))
         self.rim = PointEvaluator(msh, [geometry.crater_radius, 0.0]).expression(self.u[0])
         Vz, zmap = V.sub(1).collapse()
         _, rmap = V.sub(0).collapse()
@@ -240,6 +250,21 @@ class Crater:
         lower[problem.names.index("displacement")].x.array[np.asarray(zmap).reshape(-1)[self._wall_dofs]] = -Z
         problem.set_bounds(lower, upper)
 
+    def wave_check(self, terms, prefix: str):
+        """None, or {n: unstable modes with n waves} at the current state, n = 1..``waves``;
+        the wall nodes on the plate hold their normal displacement."""
+        if not self.params.waves:
+            return None
+        analysis = ModeAnalysis(self.ctx, [t for t in terms if t is not self.viscosity], self.bcs, prefix)
+        X, zdofs, _ = self._wall
+        tolerance = 1e-9 * self.geometry.crater_radius
+
+        def check():
+            on_plate = zdofs[X[:, 1] + self.u.x.array[zdofs] <= tolerance]
+            return analysis.scan(range(1, self.params.waves + 1), held=on_plate)
+
+        return check
+
     def open_radius(self) -> float:
         """Current radius of the edge of the suction area, where the crater wall leaves
         the plate. The pressure on the wall has the vertical resultant Δp π r_edge²
@@ -285,7 +310,8 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     vi = {"snes_type": "vinewtonrsls"}
     loading = Problem(model.ctx, model.terms(), model.bcs, "bcfem_crater_load_", vi)
     model.contact_bounds(loading)
-    path = LoadPath(loading, set_platen, "load", model.viscosity, relax_stiffness, multipliers, events=events)
+    path = LoadPath(loading, set_platen, "load", model.viscosity, relax_stiffness, multipliers, events=events,
+                    waves=model.wave_check(model.terms(), "bcfem_crater_load_modes_"))
     path.start()
     try:
         if params.preload == CLOSURE:
@@ -304,7 +330,7 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
         return _finish(params, model, rows, final, V1, closed, preload, preload, events, comm, t0)
     if not closed:
         model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
-    fluid = Vacuum(model.volume_density) if closed else FLUIDS[params.fluid](model.volume_density, V1)
+    fluid = Vacuum(model.cavity) if closed else FLUIDS[params.fluid](model.cavity, V1)
 
     # stage 2: sealed, the platen retracts until its force vanishes
     terms = model.terms(fluid)
@@ -316,20 +342,22 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     w = fem.Function(model.u.function_space)
     w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / H]))
     platen_force = fem.form(ufl.derivative(lagrangian, model.u, w))  # compression < 0
-    path = LoadPath(unloading, set_platen, "unload", model.viscosity, relax_stiffness, multipliers, events=events)
+    waves = model.wave_check(terms, "bcfem_crater_unload_modes_")
+    path = LoadPath(unloading, set_platen, "unload", model.viscosity, relax_stiffness, multipliers, events=events,
+                    waves=waves)
     V1_sealed = 0.0 if closed else V1
     try:
         path.start()
         if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
             ramp = model.ctx.constant("vacuum_load")
             sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", model.viscosity,
-                               relax_stiffness, multipliers, events=events)
+                               relax_stiffness, multipliers, events=events, waves=waves)
             sealing.start()
             first = len(events)
             sealing.advance(0.0, 1.0, 0.25)
             for event in events[first:]:  # report the platen strain; the ramp value goes in the detail
                 event.update(detail=f"{event['detail']} (vacuum ramp at {event['eps']:.3g})", eps=preload)
-            path.unstable = sealing.unstable
+            path.unstable, path.unstable_waves = sealing.unstable, sealing.unstable_waves
         path.set_load(preload)
         last = path.mark(preload)
 

@@ -1,0 +1,203 @@
+r"""Non-axisymmetric loss of stability of an axisymmetric state: Fourier modes.
+
+An axisymmetric model sees only axisymmetric modes. At an axisymmetric state a
+perturbation with n circumferential waves,
+
+.. math:: \delta u = a\cos n\theta\, e_r + c\cos n\theta\, e_z + b\sin n\theta\, e_\theta,
+          \qquad \delta p = q \cos n\theta,
+
+is decoupled from every other n (and the sine/cosine twins from each other, by
+the reflection θ → -θ), so the second variation of the energy integrated over θ
+is a 2-D quadratic form in (a, c, b, q): the n-th block of the 3-D tangent. Its
+deformation gradient, components ordered (r, z, θ) as in
+:class:`bcfem.solid.AxisymmetricSolid`, is F0 + G with
+
+.. math:: G = \begin{pmatrix} a_{,r} & a_{,z} & -(na + b)/r \\
+                              c_{,r} & c_{,z} & -nc/r \\
+                              b_{,r} & b_{,z} & (nb + a)/r \end{pmatrix}
+          (\cos n\theta \text{ and } \sin n\theta \text{ factors dropped}).
+
+:class:`ModeKinematics` is kinematics like the axisymmetric one (F, J, I1, the
+cavity's height and Nanson vector, the θ-integral π instead of 2π), so the
+scene's own energy terms give the block by differentiating twice: nothing is
+derived by hand. Global unknowns (a gas pressure, a sealed volume) do not
+couple to n >= 1: their first variation integrates to zero over θ, so they
+stay at their values. Dirichlet conditions of the axisymmetric state hold the
+same components of the mode; the axis is regular when c = 0 there and, for
+n >= 2, a = b = 0 (n = 1 moves the axis sideways). For n = 1 a rigid sideways
+translation costs nothing; its mean over the body is held by a multiplier.
+
+Unstable directions are counted as in :mod:`bcfem.stability` (Sylvester's law
+on the saddle-point matrix). Discrete terms (self-contact) are not included.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import ufl
+from dolfinx import default_scalar_type, fem
+from dolfinx.fem.petsc import assemble_matrix
+
+from bcfem.stability import negative_eigenvalues
+
+
+class ModeKinematics:
+    """The axisymmetric kinematics ``base`` perturbed by the mode field ``w`` = (a, c, b)
+    with ``n`` waves (a ``fem.Constant``)."""
+
+    def __init__(self, base, w, n):
+        self.base = base
+        self.x = base.x
+        r = base.x[0]
+        a, c, b = w[0], w[1], w[2]
+        G = ufl.as_matrix([[a.dx(0), a.dx(1), -(n * a + b) / r],
+                           [c.dx(0), c.dx(1), -n * c / r],
+                           [b.dx(0), b.dx(1), (n * b + a) / r]])
+        self.F = base.F + G
+        self.J = ufl.det(self.F)
+        self.I1 = ufl.tr(self.F.T * self.F)
+        self.height = base.height + c
+        self.normal = base.normal
+        self.surface_stretch = ufl.sqrt(ufl.inner(self.nanson(), self.nanson()))
+
+    def nanson(self):
+        """cof(F) N, components (r, z, theta)."""
+        N = ufl.as_vector([self.normal[0], self.normal[1], 0])
+        return ufl.dot(ufl.cofac(self.F), N)
+
+    # the theta-integral of cos^2(n theta) or sin^2(n theta) is pi, half the axisymmetric 2 pi
+    def integral(self, density, region: int | None = None):
+        return 0.5 * self.base.integral(density, region)
+
+    def surface_integral(self, density, boundary: int):
+        return 0.5 * self.base.surface_integral(density, boundary)
+
+
+class ModeContext:
+    """What energy terms see when they build the mode's Lagrangian: the mode kinematics,
+    field states perturbed (base + mode), global states and constants as they are."""
+
+    def __init__(self, ctx, n):
+        self.base = ctx
+        self.mesh = ctx.mesh
+        space = ctx.u.function_space
+        degree = space.element.basix_element.degree
+        self.space = fem.functionspace(self.mesh, ("Lagrange", degree, (3,)))
+        self.w = fem.Function(self.space, name="mode")
+        self.kin = ModeKinematics(ctx.kin, self.w, n)
+        self._states = {"mode": self.w}
+
+    def field_state(self, name: str, degree: int = 1):
+        base = self.base.field_state(name, degree)
+        if name not in self._states:
+            self._states[name] = fem.Function(base.function_space, name=f"{name}_mode")
+        return base + self._states[name]
+
+    def real_state(self, name: str):
+        return self.base.real_state(name)
+
+    def constant(self, name: str, value: float = 0.0):
+        return self.base.constant(name, value)
+
+    @property
+    def u(self):
+        raise AttributeError("this term needs the displacement itself, which a Fourier mode does not "
+                             "define; leave it out of the terms of bcfem.modes.ModeAnalysis")
+
+    @property
+    def states(self):
+        return dict(self._states)
+
+
+class ModeAnalysis:
+    """Counts the unstable Fourier modes n >= 1 of the current axisymmetric state of ``ctx``.
+
+    Args:
+        ctx: the axisymmetric model's context (its states are the base state).
+        terms: the energy terms of the current stage (discrete terms and terms that need
+            the displacement itself, such as a relaxation viscosity, must be left out).
+        bcs: the axisymmetric problem's Dirichlet conditions on the displacement.
+        prefix: PETSc options prefix of the factorisations.
+    """
+
+    def __init__(self, ctx, terms, bcs, prefix: str = "bcfem_modes_"):
+        self.ctx = ctx
+        self.terms = [t for t in terms if not getattr(t, "is_discrete", False)]
+        self.prefix = prefix
+        self.n = fem.Constant(ctx.mesh, default_scalar_type(2.0))
+        self._forms = {}  # n = 1 (with the translation multiplier) and n >= 2
+        base_space = ctx.u.function_space
+        self._base_bs = base_space.dofmap.index_map_bs
+        self._held = [bc.dof_indices()[0] for bc in bcs]
+
+    def _build(self, translation: bool):
+        mctx = ModeContext(self.ctx, self.n)
+        V = mctx.space
+        if not np.allclose(V.tabulate_dof_coordinates(), self.ctx.u.function_space.tabulate_dof_coordinates()):
+            raise RuntimeError("the mode's dofs do not follow the displacement's node numbering")
+        lagrangian = sum(t.energy(mctx) for t in self.terms)
+        if translation:
+            shift = fem.Function(self.ctx.real_space, name="translation")
+            mctx._states["translation"] = shift
+            # mean sideways displacement e_x . (a cos e_r + b sin e_theta) over the body
+            lagrangian += mctx.kin.integral(shift * (mctx.w[0] - mctx.w[2]))
+        states = list(mctx.states.values())
+        blocks = []
+        for si in states:
+            row = []
+            for sj in states:
+                block = ufl.derivative(ufl.derivative(lagrangian, si, ufl.TestFunction(si.function_space)),
+                                       sj, ufl.TrialFunction(sj.function_space))
+                block = ufl.algorithms.expand_derivatives(block)
+                row.append(None if block.empty() else block)
+            blocks.append(row)
+        multipliers = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.index_map_bs
+                          for s in states[1:])
+        return {"forms": fem.form(blocks), "space": V, "multipliers": multipliers,
+                "nodes": V.tabulate_dof_coordinates()}
+
+    def _bcs(self, compiled, n: int, held) -> list:
+        V = compiled["space"]
+        bs = self._base_bs
+        on_axis = np.flatnonzero(np.isclose(compiled["nodes"][:, 0], 0.0, atol=1e-12))
+        fixed = {k: [] for k in range(3)}
+        for dofs in [*self._held, *([np.asarray(held)] if held is not None else [])]:
+            nodes, comps = np.divmod(np.asarray(dofs, dtype=np.int64), bs)
+            for k in range(bs):
+                chosen = nodes[comps == k]
+                if n == 1 and k == 0:  # a = -b on the axis: the axis may move sideways
+                    chosen = np.setdiff1d(chosen, on_axis)
+                fixed[k].append(chosen)
+        fixed[1].append(on_axis)
+        if n >= 2:
+            fixed[0].append(on_axis)
+            fixed[2].append(on_axis)
+        return [fem.dirichletbc(default_scalar_type(0.0), (3 * np.unique(np.concatenate(nodes)) + k).astype(np.int32),
+                                V.sub(k)) for k, nodes in fixed.items() if nodes]
+
+    def unstable(self, n: int, held=None) -> int:
+        """Number of unstable modes with ``n`` >= 1 waves at the current state.
+
+        Args:
+            held: local (unrolled) dofs of the displacement held at this state in addition
+                to the Dirichlet conditions, e.g. wall dofs in contact with a rigid plate
+                (frictionless: only their normal component).
+        """
+        if n < 1 or int(n) != n:
+            raise ValueError(f"the wave number n must be an integer >= 1 (got {n})")
+        kind = "translation" if n == 1 else "waves"
+        if kind not in self._forms:
+            self._forms[kind] = self._build(translation=(n == 1))
+        compiled = self._forms[kind]
+        self.n.value = float(n)
+        A = assemble_matrix(compiled["forms"], bcs=self._bcs(compiled, n, held))
+        A.assemble()
+        try:
+            negative = negative_eigenvalues(A, self.prefix)
+        finally:
+            A.destroy()
+        return negative - compiled["multipliers"]
+
+    def scan(self, waves, held=None) -> dict[int, int]:
+        """{n: unstable modes} for every n in ``waves``."""
+        return {int(n): self.unstable(int(n), held) for n in waves}
