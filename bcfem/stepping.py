@@ -162,9 +162,14 @@ class LoadPath:
         counts = self.waves()
         waves = _unstable_waves(counts)
         if waves != self.unstable_waves:
-            self.events.append({"stage": self.stage, "eps": value, "kind": "waves", "unstable": sum(counts.values()),
-                                "waves": list(waves),
-                                "detail": f"unstable wave numbers n = {_ranges(self.unstable_waves)} -> {_ranges(waves)}"})
+            # more unstable directions with n waves than axisymmetric ones: the loss of stability
+            # is not (only) an axisymmetric mode's, so symmetry breaks
+            most = max(counts.values(), default=0)
+            self.events.append({"stage": self.stage, "eps": value, "kind": "waves", "unstable": most,
+                                "waves": list(waves), "breaks_symmetry": most > self.unstable,
+                                "detail": f"unstable wave numbers n = {_ranges(self.unstable_waves)} -> "
+                                          f"{_ranges(waves)} (at most {most} modes per n, {self.unstable} "
+                                          f"axisymmetric)"})
             self.unstable_waves = waves
 
 

@@ -438,6 +438,7 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
         + (f"; a trapped remnant V1 = {V1 / geometry.crater_volume:.2g} V0 is neglected"
            if V1 > CLOSED * geometry.crater_volume else ""),
         "stability": classify(events),
+        "symmetry_breaking": symmetry_breaking(events) if params.waves else None,
         "instabilities": events,
         "surface_energy": params.surface_energy,
         "gas_permeation": permeation_estimate(1 - final["p_over_pa"], geometry.crater_radius)
@@ -462,6 +463,16 @@ def classify(events) -> str:
     if any(unstable(e) for e in events):
         return "unstable-unloading"
     return "stable"
+
+
+def symmetry_breaking(events) -> dict:
+    """{stage: the first eps where more modes with n waves than axisymmetric ones are unstable,
+    and those n}, for the stages where it happens (needs ``waves``)."""
+    first = {}
+    for e in events:
+        if e["kind"] == "waves" and e["breaks_symmetry"] and e["stage"] not in first:
+            first[e["stage"]] = {"eps": e["eps"], "waves": e["waves"]}
+    return first
 
 
 def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisections: int = 10) -> float:
