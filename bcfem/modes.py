@@ -24,8 +24,10 @@ derived by hand. Global unknowns (a gas pressure, a sealed volume) do not
 couple to n >= 1: their first variation integrates to zero over θ, so they
 stay at their values. Dirichlet conditions of the axisymmetric state hold the
 same components of the mode; the axis is regular when c = 0 there and, for
-n >= 2, a = b = 0 (n = 1 moves the axis sideways). For n = 1 a rigid sideways
-translation costs nothing; its mean over the body is held by a multiplier.
+n >= 2, a = b = 0. For n = 1 the axis may move sideways, a = -b: the unknowns
+are then (a, c, a + b) (a congruence: the inertia is the same) so that this is
+a Dirichlet condition, and a rigid sideways translation, which costs nothing,
+has its mean over the body held by a multiplier.
 
 Unstable directions are counted as in :mod:`bcfem.stability` (Sylvester's law
 on the saddle-point matrix). Discrete terms (self-contact) are not included.
@@ -42,14 +44,16 @@ from bcfem.stability import negative_eigenvalues
 
 
 class ModeKinematics:
-    """The axisymmetric kinematics ``base`` perturbed by the mode field ``w`` = (a, c, b)
-    with ``n`` waves (a ``fem.Constant``)."""
+    """The axisymmetric kinematics ``base`` perturbed by the mode field ``w`` with ``n`` waves
+    (a ``fem.Constant``): w = (a, c, b), or w = (a, c, a + b) with ``sideways`` (n = 1), whose
+    axis condition a + b = 0 is then a condition on one component."""
 
-    def __init__(self, base, w, n):
+    def __init__(self, base, w, n, sideways: bool = False):
         self.base = base
         self.x = base.x
         r = base.x[0]
-        a, c, b = w[0], w[1], w[2]
+        a, c, b = w[0], w[1], (w[2] - w[0] if sideways else w[2])
+        self.sideways_displacement = a - b  # twice the mean of e_x . (a cos e_r + b sin e_theta)
         G = ufl.as_matrix([[a.dx(0), a.dx(1), -(n * a + b) / r],
                            [c.dx(0), c.dx(1), -n * c / r],
                            [b.dx(0), b.dx(1), (n * b + a) / r]])
@@ -77,14 +81,14 @@ class ModeContext:
     """What energy terms see when they build the mode's Lagrangian: the mode kinematics,
     field states perturbed (base + mode), global states and constants as they are."""
 
-    def __init__(self, ctx, n):
+    def __init__(self, ctx, n, sideways: bool = False):
         self.base = ctx
         self.mesh = ctx.mesh
         space = ctx.u.function_space
         degree = space.element.basix_element.degree
         self.space = fem.functionspace(self.mesh, ("Lagrange", degree, (3,)))
         self.w = fem.Function(self.space, name="mode")
-        self.kin = ModeKinematics(ctx.kin, self.w, n)
+        self.kin = ModeKinematics(ctx.kin, self.w, n, sideways)
         self._states = {"mode": self.w}
 
     def field_state(self, name: str, degree: int = 1):
@@ -131,7 +135,7 @@ class ModeAnalysis:
         self._held = [bc.dof_indices()[0] for bc in bcs]
 
     def _build(self, translation: bool):
-        mctx = ModeContext(self.ctx, self.n)
+        mctx = ModeContext(self.ctx, self.n, sideways=translation)
         V = mctx.space
         if not np.allclose(V.tabulate_dof_coordinates(), self.ctx.u.function_space.tabulate_dof_coordinates()):
             raise RuntimeError("the mode's dofs do not follow the displacement's node numbering")
@@ -140,7 +144,7 @@ class ModeAnalysis:
             shift = fem.Function(self.ctx.real_space, name="translation")
             mctx._states["translation"] = shift
             # mean sideways displacement e_x . (a cos e_r + b sin e_theta) over the body
-            lagrangian += mctx.kin.integral(shift * (mctx.w[0] - mctx.w[2]))
+            lagrangian += mctx.kin.integral(shift * mctx.kin.sideways_displacement)
         states = list(mctx.states.values())
         blocks = []
         for si in states:
@@ -165,13 +169,13 @@ class ModeAnalysis:
             nodes, comps = np.divmod(np.asarray(dofs, dtype=np.int64), bs)
             for k in range(bs):
                 chosen = nodes[comps == k]
-                if n == 1 and k == 0:  # a = -b on the axis: the axis may move sideways
+                if n == 1 and k == 0:  # the axis may move sideways (a = -b there)
                     chosen = np.setdiff1d(chosen, on_axis)
                 fixed[k].append(chosen)
-        fixed[1].append(on_axis)
+        fixed[1].append(on_axis)  # c = 0
+        fixed[2].append(on_axis)  # b = 0, or a + b = 0 for n = 1
         if n >= 2:
             fixed[0].append(on_axis)
-            fixed[2].append(on_axis)
         return [fem.dirichletbc(default_scalar_type(0.0), (3 * np.unique(np.concatenate(nodes)) + k).astype(np.int32),
                                 V.sub(k)) for k, nodes in fixed.items() if nodes]
 
