@@ -141,6 +141,12 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
     return comm.bcast(rows, root=0)
 
 
+def _computed(rows, panels):
+    """The panels whose column some point has (a scene's optional outputs, e.g. the crater's
+    symmetry class, only with --waves); all of them if no point has any."""
+    return [p for p in panels if any(r.get(p[0]) is not None for r in rows)] or panels
+
+
 def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str, path, comm=MPI.COMM_WORLD):
     """One filled contour per (column, label) over the (x, y) grid; failed points are blank."""
     if comm.rank != 0:
@@ -148,6 +154,7 @@ def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str
     from bcfem.plots import pyplot
 
     plt = pyplot()
+    panels = _computed(rows, panels)
     xs = sorted({r[x] for r in rows})
     ys = sorted({r[y] for r in rows})
     fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.6))
@@ -178,6 +185,7 @@ def curves(rows, x: str, panels: list[tuple[str, str]], title: str, path, comm=M
     from bcfem.plots import pyplot
 
     plt = pyplot()
+    panels = _computed(rows, panels)
     fig, axes = plt.subplots(1, len(panels), figsize=(3.4 * len(panels), 3.2))
     xs = [r[x] for r in rows]
     for ax, (column, label) in zip(np.atleast_1d(axes), panels):

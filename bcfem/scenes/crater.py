@@ -439,6 +439,7 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
            if V1 > CLOSED * geometry.crater_volume else ""),
         "stability": classify(events),
         "symmetry_breaking": symmetry_breaking(events) if params.waves else None,
+        "stability_waves": classify([e for e in events if e.get("breaks_symmetry")]) if params.waves else None,
         "instabilities": events,
         "surface_energy": params.surface_energy,
         "gas_permeation": permeation_estimate(1 - final["p_over_pa"], geometry.crater_radius)
@@ -454,9 +455,10 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
 
 def classify(events) -> str:
     """``stable``, ``unstable-unloading`` (only on unloading) or ``unstable-both`` (already on
-    loading), from the inertia events and snaps of a cycle."""
+    loading), from the inertia events and snaps of a cycle (or from the symmetry-breaking
+    events alone: ``stability_waves``)."""
     def unstable(event):
-        return event["kind"] == "snap" or (event["unstable"] or 0) > 0
+        return event["kind"] == "snap" or (event["unstable"] or 0) > 0 or event.get("breaks_symmetry", False)
 
     if any(unstable(e) for e in events if e["stage"] == "load"):
         return "unstable-both"
@@ -570,6 +572,9 @@ def sweep_point(params: Params, comm) -> dict:
     point = {k: summary[k] for k in ("F_tilde", "F_hat", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
                                      "eps_at_zero_force", "preload", "stability")}
     point["stability_code"] = STABILITY.index(summary["stability"])  # a number for contour maps
+    if params.waves:
+        point["stability_waves"] = summary["stability_waves"]
+        point["symmetry_code"] = STABILITY.index(summary["stability_waves"])
     return point
 
 
@@ -582,5 +587,6 @@ SWEEP = {"solve": sweep_point,
          "maps": [("F_tilde", "F~"), ("F_hat", "F^ = F/(mu A0)"), ("V1_over_V0", "V1/V0"),
                   ("V2_over_V0", "V2/V0"), ("p2_over_pa", "p2/p_a"), ("A2_over_A0", "A2/A0"),
                   ("preload", "eps (eps_m for --preload closure)"),
-                  ("stability_code", "0 stable, 1 unstable on unloading, 2 on loading too")],
+                  ("stability_code", "0 stable, 1 unstable on unloading, 2 on loading too"),
+                  ("symmetry_code", "symmetry breaking (--waves): 0 none, 1 on unloading, 2 on loading too")],
          "title": "suction cycle"}
