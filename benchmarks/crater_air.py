@@ -681,7 +681,7 @@ def markdown(rows, refs, mpi, args) -> str:
         if negative:
             parts.append("V1 < 0 on " + ", ".join(f"{r['size_crater']:g} (V1/V0 = {r['V1_over_V0']:.1e})"
                                                     for r in negative)
-                         + ": the closed crater wall passes through itself (the model has no self-contact)")
+                         + ": the closed crater wall overlaps itself (self-contact is a penalty, and misses a node that one Newton step carries deeper than a quarter segment)")
         if closed:
             parts.append("the crater closes in stage 1 (V1 = 0, vacuum, p2 = 0) on " + ", ".join(
                 f"{r['size_crater']:g}" for r in closed) + " but not on the other meshes")
