@@ -38,8 +38,10 @@
 # missing. The default grid is a few points of each kind (CI, serial and
 # `mpirun -n 2`); `--full` solves the published maps (about 200 cycles).
 #
-# Not computed: the dissertation's non-axisymmetric instabilities (its
-# $\varepsilon_c$); our stability classes count axisymmetric modes only.
+# Fig. 7.11b's classes are the dissertation's wrinkles, i.e. symmetry breaking: its map
+# checks the non-axisymmetric modes n = 1..20 after every step (`waves = 20`,
+# `bcfem/modes.py`) and is coloured by `stability_waves`; `stability` (axisymmetric
+# modes and snaps) is in the CSV too.
 
 # %%
 import argparse
@@ -67,7 +69,7 @@ ALPHAS = [0.25, 0.4, 0.55, 0.7, 0.85, 1.0]
 STIFFNESS = [3.0, 10.0, 30.0, 100.0, 300.0]
 MAPS = {
     "fig7_9": (AIR, {"alpha": ALPHAS, "beta": [0.5, 1.0, 2.0, 5.0, 10.0]}),
-    "fig7_11b": (replace(AIR, alpha=1.0, beta=1.0),
+    "fig7_11b": (replace(AIR, alpha=1.0, beta=1.0, waves=20),
                  {"layer_thickness": [0.015, 0.03, 0.045, 0.06], "layer_stiffness": STIFFNESS}),
     "fig7_11c": (replace(AIR, beta=1.0, layer_thickness=0.03, layer_stiffness=30.0),
                  {"alpha": [0.4, 0.55, 0.7, 0.85, 1.0]}),
@@ -207,6 +209,9 @@ if hemisphere:
     ours["fig7_9b_eps_m_hemisphere"] = hemisphere[0]
 above = [r for r in ok("fig7_11b") if r["F_tilde"] > 1.0]
 ours["fig7_11b_F_above_1"] = [{k: r[k] for k in ("layer_thickness", "layer_stiffness", "F_tilde")} for r in above]
+ours["fig7_11b_classes"] = {cls: [(r["layer_thickness"], r["layer_stiffness"]) for r in ok("fig7_11b")
+                                  if r.get("stability_waves") == cls]
+                            for cls in ("stable", "unstable-unloading", "unstable-both")}
 if ok("fig7_11c"):
     top = best(ok("fig7_11c"), "F_tilde")
     ours["fig7_11c_peak"] = {"alpha": top["alpha"], "F_tilde": top["F_tilde"]}
@@ -232,7 +237,7 @@ for key, value in ours.items():
 # %%
 COLUMNS = ["map", "fluid", "alpha", "beta", "layer_thickness", "layer_stiffness", "preload", "status", "F_tilde",
            "F_hat", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0", "eps_at_zero_force", "stability",
-           "reason"]
+           "stability_waves", "reason"]
 table = []
 for name, rows in results.items():
     base = asdict(MAPS[name][0])
@@ -394,7 +399,7 @@ if comm.rank == 0:
     # Fig. 7.11
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.3))
     for r in results.get("fig7_11b", []):
-        colour = STABILITY_COLOURS.get(r.get("stability"), "0.6")
+        colour = STABILITY_COLOURS.get(r.get("stability_waves"), "0.6")
         a.scatter(r["layer_thickness"], r["layer_stiffness"], s=260, c=colour, marker="s" if r["status"] == "ok"
                   else "x")
         if r["status"] == "ok":
@@ -410,7 +415,8 @@ if comm.rank == 0:
     a.set_xlabel(r"$\alpha' = t/a$")
     a.set_ylabel(r"$\beta' = \mu_l/\mu$")
     a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    a.set_title(r"(b) stability classes at $\alpha = \beta = 1$ (numbers: $\tilde F$, bold > 1)", fontsize=9)
+    a.set_title(r"(b) symmetry breaking ($n$ = 1..20) at $\alpha = \beta = 1$ (numbers: $\tilde F$, bold > 1)",
+                fontsize=9)
     curve(b, "fig7_11c", "alpha", "F_tilde", r"reinforced $\alpha'$ = 0.03, $\beta'$ = 30")
     plain = sorted((r for r in ok("fig7_9") if r["beta"] == 1.0), key=lambda r: r["alpha"])
     b.plot([r["alpha"] for r in plain], [r["F_tilde"] for r in plain], "-s", ms=4, label="unreinforced")

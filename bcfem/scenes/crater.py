@@ -189,6 +189,9 @@ class Crater:
         self.viscosity = Viscosity(self.u)
         # the wall (or its lining) must not fold through itself; the stiffest material sets k
         stiffest = params.beta * (max(1.0, params.layer_stiffness) if params.layer_thickness > 0 else 1.0)
+        # residuals in units of the stiffest modulus (>= p_a): Newton's round-off floor grows
+        # with the stiffness and stalled above the absolute tolerance for beta' = 300 linings
+        self.energy_scale = max(1.0, stiffest)
         self.self_contact = (WallSelfContact(facets, CRATER, stiffest, penalty=params.self_contact)
                              if params.self_contact > 0 else None)
         self.strain = 0.0
@@ -308,7 +311,7 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     # stage 1: vent open
     rows = [model.observe("load", 0.0)]
     vi = {"snes_type": "vinewtonrsls"}
-    loading = Problem(model.ctx, model.terms(), model.bcs, "bcfem_crater_load_", vi)
+    loading = Problem(model.ctx, model.terms(), model.bcs, "bcfem_crater_load_", vi, energy_scale=model.energy_scale)
     model.contact_bounds(loading)
     path = LoadPath(loading, set_platen, "load", model.viscosity, relax_stiffness, multipliers, events=events,
                     waves=model.wave_check(model.terms(), "bcfem_crater_load_modes_"))
@@ -334,7 +337,7 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
 
     # stage 2: sealed, the platen retracts until its force vanishes
     terms = model.terms(fluid)
-    unloading = Problem(model.ctx, terms, model.bcs, "bcfem_crater_unload_", vi)
+    unloading = Problem(model.ctx, terms, model.bcs, "bcfem_crater_unload_", vi, energy_scale=model.energy_scale)
     model.contact_bounds(unloading)
     # self-contact is left out: its forces pair up on the wall, so their work in w is the
     # contact force times gap / H, negligible
