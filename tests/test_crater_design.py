@@ -74,6 +74,22 @@ def test_stability_classification(hemisphere_to_closure):
     assert any(e["stage"] == "load" for e in hemisphere_to_closure["instabilities"])
 
 
+def test_symmetry_classes_come_from_waves_beyond_the_axisymmetric_count():
+    """``stability_waves`` counts only waves events with more unstable n-wave modes than
+    axisymmetric ones (copies of an axisymmetric crease do not break symmetry)."""
+    def waves(stage, eps, breaks):
+        return {"stage": stage, "eps": eps, "kind": "waves", "unstable": 1, "waves": [1, 2],
+                "breaks_symmetry": breaks}
+
+    copies = [{"stage": "load", "eps": 0.35, "kind": "stability", "unstable": 1}, waves("load", 0.35, False)]
+    assert crater.classify(copies) == "unstable-both"  # the axisymmetric class counts the crease
+    assert crater.classify([e for e in copies if e.get("breaks_symmetry")]) == "stable"
+    assert crater.symmetry_breaking(copies) == {}
+    events = copies + [waves("unload", 0.3, True), waves("unload", 0.2, True)]
+    assert crater.symmetry_breaking(events) == {"unload": {"eps": 0.3, "waves": [1, 2]}}
+    assert crater.classify([e for e in events if e.get("breaks_symmetry")]) == "unstable-unloading"
+
+
 def test_closed_liquid_crater_gives_no_suction(hemisphere_to_closure):
     """Eq. 8.8: a liquid crater closed on loading stays closed (V2 = V1 = 0): F_hat = 0, said
     so; the loading (vented) is the air crater's, so eps_m is the same."""

@@ -38,3 +38,27 @@ def test_rewind_restores_state_load_snaps_and_events():
     assert path.snaps == 0 and path.events == []
     # the next path starts from the mark, and a failed step would restore the mark's state
     assert path.advance(0.5, 0.6, 0.1) == 0.6 and np.all(problem.u == 0.6)
+
+
+def test_waves_events_and_their_rewind(monkeypatch):
+    """A waves check reports each change of the set of unstable n, and whether some n has
+    more unstable modes than the axisymmetric count; rewinding restores the set."""
+    import bcfem.stepping as stepping
+
+    problem = Quadratic()
+    monkeypatch.setattr(stepping, "unstable_modes", lambda p, multipliers: int(p.load >= 0.3 - 1e-12))
+
+    def waves():
+        return {1: int(problem.load >= 0.3 - 1e-12), 2: 2 * int(problem.load >= 0.5 - 1e-12), 3: 0}
+
+    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", waves=waves)
+    path.start()
+    path.advance(0.0, 0.4, 0.1)
+    mark = path.mark(0.4)
+    path.advance(0.4, 0.7, 0.1)
+    found = [(e["eps"], e["waves"], e["breaks_symmetry"]) for e in path.events if e["kind"] == "waves"]
+    assert [(w, b) for _, w, b in found] == [([1], False), ([1, 2], True)]  # n = 1 copies the axisymmetric mode
+    assert 0.3 <= found[0][0] <= 0.4 and 0.5 <= found[1][0] <= 0.7
+    assert "n = 1 -> 1-2" in path.events[-1]["detail"]
+    path.rewind(mark)
+    assert path.unstable_waves == (1,) and path.unstable == 1 and len(path.events) == 2
