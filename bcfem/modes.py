@@ -100,6 +100,12 @@ class ModeContext:
     def real_state(self, name: str):
         return self.base.real_state(name)
 
+    def multiplier(self, name: str):
+        """A global unknown of the mode's own (e.g. the n = 1 translation's multiplier)."""
+        if name not in self._states:
+            self._states[name] = fem.Function(self.base.real_space, name=name)
+        return self._states[name]
+
     def constant(self, name: str, value: float = 0.0):
         return self.base.constant(name, value)
 
@@ -141,8 +147,7 @@ class ModeAnalysis:
             raise RuntimeError("the mode's dofs do not follow the displacement's node numbering")
         lagrangian = sum(t.energy(mctx) for t in self.terms)
         if translation:
-            shift = fem.Function(self.ctx.real_space, name="translation")
-            mctx._states["translation"] = shift
+            shift = mctx.multiplier("translation")
             # mean sideways displacement e_x . (a cos e_r + b sin e_theta) over the body
             lagrangian += mctx.kin.integral(shift * mctx.kin.sideways_displacement)
         states = list(mctx.states.values())
