@@ -52,6 +52,12 @@ def merge(prefix: str, *layers: dict) -> dict:
     return merged
 
 
+def user_set(prefix: str, key: str) -> bool:
+    """Whether the user set ``key`` (with or without ``prefix``)."""
+    opts = PETSc.Options()
+    return opts.hasName(key) or opts.hasName(prefix + key)
+
+
 def keys_under(prefix: str) -> set[str]:
     """The option names currently set under ``prefix``."""
     return {k for k in PETSc.Options().getAll() if k.startswith(prefix)}

@@ -33,10 +33,15 @@ class Problem:
         energy_scale: the energy is divided by this before differentiation, so that
             residuals are O(1) and absolute tolerances mean the same for every
             parameter set (e.g. a strong surface tension).
+        line_search_fallbacks: SNES line searches to retry a failed solve with, in turn,
+            from the same initial state (e.g. ``("bt",)``: full Newton steps can cycle
+            between two contact active sets). Ignored when the user sets
+            ``snes_linesearch_type``: the user's choice wins.
     """
 
     def __init__(self, ctx, terms, bcs, prefix: str, petsc_options: dict | None = None,
-                 rows: dict | None = None, jit_options: dict | None = None, energy_scale: float = 1.0):
+                 rows: dict | None = None, jit_options: dict | None = None, energy_scale: float = 1.0,
+                 line_search_fallbacks: tuple[str, ...] = ()):
         self.ctx = ctx
         self.terms = list(terms)
         self.discrete = [t for t in self.terms if getattr(t, "is_discrete", False)]
@@ -60,6 +65,8 @@ class Problem:
                                      jit_options=jit_options)
         options.forget_new(prefix, before)
         self.snes: PETSc.SNES = self._nlp.solver
+        self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
+            else tuple(line_search_fallbacks)
         self.iterations = 0
         self.reason = 0
         self._tangent_ksp = None
@@ -127,12 +134,30 @@ class Problem:
             s.x.array[:] = a
 
     def solve(self) -> bool:
-        """Newton from the current states. On failure the states are restored.
+        """Newton from the current states, retried from them with each of the
+        ``line_search_fallbacks`` while it fails. On failure the states are restored.
 
         Returns:
             True when SNES converged (reason > 0) to a finite state.
         """
         saved = self.save()
+        ok = self._newton()
+        line_search = self.snes.getLineSearch()
+        default = line_search.getType()
+        for fallback in self.line_search_fallbacks:
+            if ok:
+                break
+            self.restore(saved)
+            line_search.setType(fallback)
+            try:
+                ok = self._newton()
+            finally:
+                line_search.setType(default)
+        if not ok:
+            self.restore(saved)
+        return ok
+
+    def _newton(self) -> bool:
         x = self._nlp.x
         assign(self.states, x)
         try:
@@ -146,7 +171,6 @@ class Problem:
             x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
             assign(x, self.states)
         else:
-            self.restore(saved)
             # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
             self.snes.getKSP().getPC().reset()
         return ok
