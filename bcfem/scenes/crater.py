@@ -334,7 +334,7 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     if closed and params.fluid == "liquid":
         # an incompressible liquid crater that closed stays closed: V2 = V1 = 0, F = 0 (eq. 8.8)
         final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
-        return _finish(params, model, rows, final, V1, closed, preload, preload, events, comm, t0)
+        return _finish(params, model, rows, final, V1, closed, preload, preload, events, comm, t0, path.unstable)
     if not closed:
         model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
     fluid = Vacuum(model.cavity) if closed else FLUIDS[params.fluid](model.cavity, V1)
@@ -401,7 +401,7 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     finally:
         final = model.observe("unload", model.strain, V1_sealed)
         unloading.close()
-    return _finish(params, model, rows, final, V1, closed, preload, zero_force, events, comm, t0)
+    return _finish(params, model, rows, final, V1, closed, preload, zero_force, events, comm, t0, path.unstable)
 
 
 def _through(path, start: float, end: float, step: float, on_accept) -> float:
@@ -424,8 +424,10 @@ def _through(path, start: float, end: float, step: float, on_accept) -> float:
     return current
 
 
-def _finish(params, model, rows, final, V1, closed, preload, zero_force, events, comm, t0) -> tuple[list[dict], dict]:
-    """The summary of a cycle (and the last row)."""
+def _finish(params, model, rows, final, V1, closed, preload, zero_force, events, comm, t0,
+            final_unstable: int) -> tuple[list[dict], dict]:
+    """The summary of a cycle (and the last row); ``final_unstable``: the unstable axisymmetric
+    modes of the final state (> 0: F is that of an unstable equilibrium, a saddle)."""
     rows.append(final)
     geometry = model.geometry
     for row in rows:
@@ -446,6 +448,7 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
         + (f"; a trapped remnant V1 = {V1 / geometry.crater_volume:.2g} V0 is neglected"
            if V1 > CLOSED * geometry.crater_volume else ""),
         "stability": classify(events),
+        "final_unstable_modes": final_unstable,
         "symmetry_breaking": symmetry_breaking(events) if params.waves else None,
         "stability_waves": classify([e for e in events if e.get("breaks_symmetry")]) if params.waves else None,
         "instabilities": events,
@@ -578,7 +581,7 @@ def sweep_point(params: Params, comm) -> dict:
     """One point of ``bcfem sweep crater``: the cycle's end values."""
     _, summary = solve(params, comm)
     point = {k: summary[k] for k in ("F_tilde", "F_hat", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
-                                     "eps_at_zero_force", "preload", "stability")}
+                                     "eps_at_zero_force", "preload", "stability", "final_unstable_modes")}
     point["stability_code"] = STABILITY.index(summary["stability"])  # a number for contour maps
     if params.waves:
         point["stability_waves"] = summary["stability_waves"]
