@@ -28,6 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
+from bcfem.log import progress
 from bcfem.relaxation import Viscosity, relax
 from bcfem.stability import unstable_modes
 
@@ -87,11 +88,14 @@ class LoadPath:
         current, step = start, abs(step)
         first = step
         smallest = step * 0.5**self.cuts
+        relax_failed_from = None
         while (target - current) * direction > 0:
             trial = current + direction * min(step, abs(target - current))
             ok = self.solve_at(trial)
             snapped = False
-            if not ok and step < first * 0.5**self.cuts_before_relax and self.viscosity is not None:
+            # a relaxation that failed from this state would fail again: it goes to the same load
+            if not ok and step < first * 0.5**self.cuts_before_relax and self.viscosity is not None \
+                    and relax_failed_from != current:
                 # Newton creeps towards a point it cannot pass (a snap): relax at a load a
                 # full first step on, past it
                 trial = current + direction * min(first, abs(target - current))
@@ -107,6 +111,7 @@ class LoadPath:
                                         "detail": f"passed by pseudo-time relaxation ({steps} steps)"})
                 else:
                     self.problem.restore(self._saved)
+                    relax_failed_from = current
             if not ok:
                 step *= 0.5
                 if step < smallest:
@@ -120,6 +125,8 @@ class LoadPath:
             if not snapped:
                 step *= 1.5
             self._check_stability(current)
+            progress(f"{self.stage} {current:.5f}  its={self.problem.iterations}  unstable={self.unstable}"
+                     f"  snaps={self.snaps}" + ("  (snap)" if snapped else ""))
             if on_accept is not None and on_accept(current):
                 break
         return current

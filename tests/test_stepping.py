@@ -1,12 +1,15 @@
 """LoadPath bookkeeping: a trial path from a mark leaves no trace once rewound."""
 
 import numpy as np
+import pytest
 
-from bcfem.stepping import LoadPath
+from bcfem.stepping import LoadPath, SteppingError
 
 
 class Quadratic:
     """A stand-in for Problem: the state follows the load exactly (u = load)."""
+
+    iterations = 1
 
     def __init__(self):
         self.u = np.zeros(3)
@@ -62,3 +65,27 @@ def test_waves_events_and_their_rewind(monkeypatch):
     assert "n = 1 -> 1-2" in path.events[-1]["detail"]
     path.rewind(mark)
     assert path.unstable_waves == (1,) and path.unstable == 1 and len(path.events) == 2
+
+
+def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
+    """Relaxation goes to a full first step beyond the last accepted state whatever the cut, so
+    once it failed from that state it would fail again: further cuts only retry Newton."""
+    import bcfem.stepping as stepping
+
+    class Wall(Quadratic):
+        reason = -5  # SNES: iteration limit
+        def solve(self):  # no equilibrium beyond 0.25
+            if self.load > 0.25 + 1e-12:
+                return False
+            return super().solve()
+
+    calls = []
+    monkeypatch.setattr(stepping, "relax", lambda *args: calls.append(args) or (False, 1))
+    problem = Wall()
+    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", viscosity=object(),
+                    check_stability=False)
+    path.start()
+    with pytest.raises(SteppingError) as failure:
+        path.advance(0.0, 1.0, 0.1)
+    assert failure.value.reached == pytest.approx(0.25)
+    assert len(calls) == 1
