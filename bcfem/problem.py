@@ -133,9 +133,11 @@ class Problem:
         for s, a in zip(self.states, saved):
             s.x.array[:] = a
 
-    def solve(self) -> bool:
+    def solve(self, fallbacks: bool = True) -> bool:
         """Newton from the current states, retried from them with each of the
-        ``line_search_fallbacks`` while it fails. On failure the states are restored.
+        ``line_search_fallbacks`` while it fails (unless ``fallbacks`` is False: a
+        continuation may rather cut its step first, since a line search can also land on
+        another branch). On failure the states are restored.
 
         Returns:
             True when SNES converged (reason > 0) to a finite state.
@@ -144,7 +146,7 @@ class Problem:
         ok = self._newton()
         line_search = self.snes.getLineSearch()
         default = line_search.getType()
-        for fallback in self.line_search_fallbacks:
+        for fallback in self.line_search_fallbacks if fallbacks else ():
             if ok:
                 break
             self.restore(saved)

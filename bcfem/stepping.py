@@ -76,9 +76,9 @@ class LoadPath:
     unstable_waves: tuple = ()
     snaps: int = 0
 
-    def solve_at(self, value: float) -> bool:
+    def solve_at(self, value: float, fallbacks: bool) -> bool:
         self.set_load(value)
-        return self.problem.solve()
+        return self.problem.solve(fallbacks=fallbacks)
 
     def advance(self, start: float, target: float, step: float,
                 on_accept: Callable[[float], bool | None] | None = None) -> float:
@@ -91,10 +91,13 @@ class LoadPath:
         relax_failed_from = None
         while (target - current) * direction > 0:
             trial = current + direction * min(step, abs(target - current))
-            ok = self.solve_at(trial)
+            # the problem's line-search fallbacks only once cutting the step has not helped:
+            # where a cut step converges, a line search may instead land on another branch
+            stuck = step < first * 0.5**self.cuts_before_relax
+            ok = self.solve_at(trial, fallbacks=stuck)
             snapped = False
             # a relaxation that failed from this state would fail again: it goes to the same load
-            if not ok and step < first * 0.5**self.cuts_before_relax and self.viscosity is not None \
+            if not ok and stuck and self.viscosity is not None \
                     and relax_failed_from != current:
                 # Newton creeps towards a point it cannot pass (a snap): relax at a load a
                 # full first step on, past it

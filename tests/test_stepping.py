@@ -21,7 +21,7 @@ class Quadratic:
     def restore(self, saved):
         self.u[:] = saved[0]
 
-    def solve(self):
+    def solve(self, fallbacks=True):
         self.u[:] = self.load
         return True
 
@@ -74,7 +74,7 @@ def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
 
     class Wall(Quadratic):
         reason = -5  # SNES: iteration limit
-        def solve(self):  # no equilibrium beyond 0.25
+        def solve(self, fallbacks=True):  # no equilibrium beyond 0.25
             if self.load > 0.25 + 1e-12:
                 return False
             return super().solve()
