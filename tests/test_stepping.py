@@ -74,6 +74,7 @@ def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
 
     class Wall(Quadratic):
         reason = -5  # SNES: iteration limit
+
         def solve(self, fallbacks=True):  # no equilibrium beyond 0.25
             if self.load > 0.25 + 1e-12:
                 return False
@@ -89,3 +90,30 @@ def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
         path.advance(0.0, 1.0, 0.1)
     assert failure.value.reached == pytest.approx(0.25)
     assert len(calls) == 1
+
+
+def test_line_search_fallbacks_only_once_cutting_has_not_helped():
+    """A line search can land on another branch where a cut step stays on this one, so the
+    problem's fallbacks are asked for only below first_step / 2**cuts_before_relax."""
+
+    class Recording(Quadratic):
+        reason = -5
+
+        def __init__(self):
+            super().__init__()
+            self.asked = []
+
+        def solve(self, fallbacks=True):
+            self.asked.append((self.load, fallbacks))
+            return self.load <= 0.1 + 1e-12 and super().solve()
+
+    problem = Recording()
+    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", check_stability=False)
+    path.start()
+    with pytest.raises(SteppingError):
+        path.advance(0.0, 1.0, 0.1)
+    first_step = 0.1
+    for load, fallbacks in problem.asked[1:]:  # after the accepted step to 0.1
+        step = load - 0.1
+        assert fallbacks == (step < first_step * 0.5**path.cuts_before_relax - 1e-15), (step, fallbacks)
+    assert any(f for _, f in problem.asked) and not all(f for _, f in problem.asked)
