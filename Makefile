@@ -12,7 +12,7 @@ demo: venv
 	$(BIN)/bcfem run blister-rigid --material gent --Jm 100 --out results/blister-rigid
 
 test: venv
-	$(BIN)/python -m pytest -q tests
+	$(BIN)/python -m pytest -q --durations=15 tests
 	PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q -m "mpi and not serial" tests
 
 DEMOS := $(basename $(notdir $(wildcard demos/*.py)))

@@ -169,6 +169,8 @@ class Problem:
             self.reason = -100  # e.g. a NaN pivot from an inverted iterate
         self.iterations = self.snes.getIterationNumber()
         ok = self.reason > 0 and np.isfinite(x.norm())
+        if ok and self.iterations == 0 and getattr(self, "_bounds", ()):
+            self._check_vi_start(x)
         if ok:
             x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
             assign(x, self.states)
@@ -176,6 +178,26 @@ class Problem:
             # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
             self.snes.getKSP().getPC().reset()
         return ok
+
+    def _check_vi_start(self, x: PETSc.Vec) -> None:
+        """Convergence in 0 iterations means the start already met ``snes_atol``. Check that
+        on the residual reduced to the unknowns not held at a bound: some SNESVI types
+        (``vinewtonssls`` on these bounds) report a zero norm there and would accept a
+        state that is no equilibrium."""
+        f = x.duplicate()
+        try:
+            self.snes.computeFunction(x, f)
+            lower, upper = (b.array for b in self._bounds)
+            held = ((x.array <= lower) & (f.array > 0)) | ((x.array >= upper) & (f.array < 0))
+            norm = np.sqrt(self.comm.allreduce(float(np.sum(f.array[~held] ** 2))))
+        finally:
+            f.destroy()
+        atol = self.snes.getTolerances()[1]
+        if norm > 10.0 * atol:
+            raise RuntimeError(
+                f"SNES ({self.snes.getType()}) reported convergence in 0 iterations, but the residual "
+                f"off the bounds is {norm:.3e} > snes_atol = {atol:.1e}: this SNES type does not "
+                f"handle the contact bounds here; use -{self.prefix}snes_type vinewtonrsls")
 
     def set_bounds(self, lower, upper) -> None:
         """Variable bounds for a variational-inequality SNES (e.g. ``vinewtonrsls``):

@@ -1,10 +1,12 @@
 """Problem: a failed Newton solve is retried with the line-search fallbacks, and the
-user's line search wins over them.
+user's line search wins over them; a variational-inequality SNES that claims convergence
+without an equilibrium is caught.
 
 The global unknown x solves arctan(x) = 0 (energy x arctan x - ln(1 + x^2)/2). Full
 Newton steps from |x0| > 1.39 overshoot further at every step; backtracking converges.
 """
 
+import numpy as np
 import pytest
 import ufl
 from dolfinx import fem, mesh
@@ -52,3 +54,43 @@ def test_the_users_line_search_wins():
     finally:
         opts.delValue("bcfem_test_fallback_snes_linesearch_type")
     assert not ok and x == 2.0
+
+
+class Obstacle:
+    """(u - (x - 1/2))^2/2 + u^4/2 over u >= 0: u = 0 on x < 1/2, positive beyond. Vertex
+    quadrature decouples the nodes, so the discrete solution is the pointwise one."""
+
+    def energy(self, ctx):
+        x = ufl.SpatialCoordinate(ctx.mesh)
+        dx = ufl.dx(metadata={"quadrature_rule": "vertex", "quadrature_degree": 1})
+        return (0.5 * (ctx.u - (x[0] - 0.5)) ** 2 + 0.5 * ctx.u**4) * dx
+
+
+def solve_obstacle(snes_type):
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 8)
+    V = fem.functionspace(msh, ("Lagrange", 1))
+    ctx = Context(fem.Function(V))
+    with Problem(ctx, [Obstacle()], [], "bcfem_test_vi_", {"snes_type": snes_type}) as problem:
+        lower, upper = fem.Function(V), fem.Function(V)
+        upper.x.array[:] = 1e20
+        problem.set_bounds([lower], [upper])
+        ok = problem.solve()
+        x = V.tabulate_dof_coordinates()[:, 0]
+        return ok, problem.iterations, x, ctx.u.x.array.copy()
+
+
+def test_the_obstacle_problem_is_solved_with_its_contact_set():
+    ok, iterations, x, u = solve_obstacle("vinewtonrsls")
+    assert ok and iterations > 0
+    assert np.all(u[x <= 0.5] == 0.0)
+    # u + 2u^3 = x - 1/2 where u > 0
+    free = x > 0.5
+    assert np.all(u[free] > 0)
+    assert np.allclose(u[free] + 2 * u[free] ** 3, x[free] - 0.5, atol=1e-9)
+
+
+def test_a_vi_convergence_in_zero_iterations_off_equilibrium_is_an_error():
+    # vinewtonssls reports a zero norm at the start here (and did so in the crater): without
+    # the check, u = 0 would be accepted
+    with pytest.raises(RuntimeError, match="0 iterations.*vinewtonrsls"):
+        solve_obstacle("vinewtonssls")
