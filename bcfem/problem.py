@@ -188,7 +188,8 @@ class Problem:
         try:
             self.snes.computeFunction(x, f)
             lower, upper = (b.array for b in self._bounds)
-            held = ((x.array <= lower) & (f.array > 0)) | ((x.array >= upper) & (f.array < 0))
+            # PETSc's own active set (SNESVIGetActiveSetIS): within 1e-8 of a bound, pushing on it
+            held = ((x.array <= lower + 1e-8) & (f.array >= 0)) | ((x.array >= upper - 1e-8) & (f.array <= 0))
             norm = np.sqrt(self.comm.allreduce(float(np.sum(f.array[~held] ** 2))))
         finally:
             f.destroy()

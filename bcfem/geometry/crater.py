@@ -164,20 +164,8 @@ def build_model(geometry: CraterGeometry):
     field.setNumber(rim_threshold, "SizeMax", h1)
     field.setNumber(rim_threshold, "DistMin", 0.05 * g.crater_radius)
     field.setNumber(rim_threshold, "DistMax", 0.5 * g.crater_radius)
-    fields = [threshold, rim_threshold]
-    if g.layer_thickness > 0 and g.layer_thickness < h0:
-        # a lining thinner than the wall's elements would be a single row of slivers (aspect
-        # h0/t), too stiff in bending and the first to invert: one element across it, graded
-        # back to the wall's size over a few elements
-        lining = field.add("Threshold")
-        field.setNumber(lining, "InField", distance)
-        field.setNumber(lining, "SizeMin", g.layer_thickness)
-        field.setNumber(lining, "SizeMax", h1)
-        field.setNumber(lining, "DistMin", g.layer_thickness)
-        field.setNumber(lining, "DistMax", g.layer_thickness + 3.0 * (h1 - g.layer_thickness))
-        fields.append(lining)
     minimum = field.add("Min")
-    field.setNumbers(minimum, "FieldsList", fields)
+    field.setNumbers(minimum, "FieldsList", [threshold, rim_threshold])
     field.setAsBackgroundMesh(minimum)
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
