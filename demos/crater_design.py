@@ -161,6 +161,15 @@ def best(rows, key):
     return max(rows, key=lambda r: r[key]) if rows else None
 
 
+def on_saddle(r) -> bool:
+    """The cycle ended on an unstable equilibrium: its force is not one a specimen holds."""
+    return r["status"] == "ok" and (r.get("final_unstable_modes") or 0) > 0
+
+
+def optimum(r, *keys) -> dict:
+    return {**{k: r[k] for k in keys}, "ends_on_saddle": on_saddle(r)}
+
+
 # %% [markdown]
 # ## Deformed shapes (Figs. 7.10, 7.12)
 #
@@ -203,7 +212,7 @@ ours = {}
 column = [r for r in ok("fig7_9") if r["beta"] == 1.0]
 if column:
     top = best(column, "F_tilde")
-    ours["fig7_9_optimum_beta1"] = {"alpha": top["alpha"], "F_tilde": top["F_tilde"]}
+    ours["fig7_9_optimum_beta1"] = optimum(top, "alpha", "F_tilde")
 hemisphere = [r["preload"] for r in ok("fig7_9") if r["alpha"] == 1.0]
 if hemisphere:
     ours["fig7_9b_eps_m_hemisphere"] = hemisphere[0]
@@ -214,16 +223,18 @@ ours["fig7_11b_classes"] = {cls: [(r["layer_thickness"], r["layer_stiffness"]) f
                             for cls in ("stable", "unstable-unloading", "unstable-both")}
 if ok("fig7_11c"):
     top = best(ok("fig7_11c"), "F_tilde")
-    ours["fig7_11c_peak"] = {"alpha": top["alpha"], "F_tilde": top["F_tilde"]}
+    ours["fig7_11c_peak"] = optimum(top, "alpha", "F_tilde")
 ours["fig7_12_F_tilde"] = {tag: summary["F_tilde"] for tag, (summary, _) in types_7_12.items()}
 ours["fig7_12_stability"] = {tag: summary["stability"] for tag, (summary, _) in types_7_12.items()}
 if ok("fig8_6b"):
     top = best(ok("fig8_6b"), "F_hat")
-    ours["fig8_6b_optimum"] = {"alpha": top["alpha"], "preload": top["preload"], "F_hat": top["F_hat"]}
+    ours["fig8_6b_optimum"] = optimum(top, "alpha", "preload", "F_hat")
 peaks = {kind: best(ok(f"fig8_7b_{kind}"), "F_hat") for kind in ("plain", "layer")}
-ours["fig8_7b_peaks"] = {kind: {"alpha": r["alpha"], "F_hat": r["F_hat"]} for kind, r in peaks.items() if r}
-ours["fig8_7cd_optimum"] = {name: {"alpha": r["alpha"], "preload": r["preload"], "F_hat": r["F_hat"]}
+ours["fig8_7b_peaks"] = {kind: optimum(r, "alpha", "F_hat") for kind, r in peaks.items() if r}
+ours["fig8_7cd_optimum"] = {name: optimum(r, "alpha", "preload", "F_hat")
                             for name in ("fig8_7c", "fig8_7d") if (r := best(ok(name), "F_hat"))}
+ours["points_ending_on_a_saddle"] = {name: [{k: r[k] for k in MAPS[name][1]} for r in rows if on_saddle(r)]
+                                     for name, rows in results.items()}
 for key, value in ours.items():
     report(f"{key}: ours {json.dumps(value)}; dissertation {json.dumps(DISSERTATION.get(key))}")
 
@@ -272,7 +283,8 @@ io.write_json(args.out / "summary.json", {
 # ## Plots (rank 0)
 #
 # Contours are drawn over the grid points (dots; failed points are crosses and
-# left blank). A map with fewer than two values on an axis (the quick grid) is
+# left blank; a point whose cycle ends on an unstable equilibrium is ringed in red,
+# and so is a curve's point). A map with fewer than two values on an axis (the quick grid) is
 # drawn as labelled dots.
 
 # %%
@@ -300,6 +312,8 @@ def contour(ax, name, x, y, key, label, lines=()):
         for level, style in lines:
             ax.contour(xs, ys, Z, levels=[level], colors="k", linestyles=style, linewidths=1.6)
     for r in rows:
+        if on_saddle(r):  # ringed: the force of an unstable end state
+            ax.plot(r[x], r[y], "o", mfc="none", mec="r", ms=8)
         if r["status"] == "ok":
             ax.plot(r[x], r[y], ".", color="w" if len(xs) > 1 and len(ys) > 1 else "k", ms=4)
             ax.annotate(f"{r[key]:.2f}", (r[x], r[y]), fontsize=6, xytext=(2, 2), textcoords="offset points")
@@ -312,6 +326,8 @@ def contour(ax, name, x, y, key, label, lines=()):
 def curve(ax, name, x, key, label, **style):
     rows = sorted(ok(name), key=lambda r: r[x])
     ax.plot([r[x] for r in rows], [r[key] for r in rows], "-o", ms=4, label=label, **style)
+    saddles = [r for r in rows if on_saddle(r)]
+    ax.plot([r[x] for r in saddles], [r[key] for r in saddles], "o", mfc="none", mec="r", ms=9)
     for r in results.get(name, []):
         if r["status"] != "ok":
             ax.axvline(r[x], color="r", lw=0.6, ls=":")
@@ -402,6 +418,9 @@ if comm.rank == 0:
         colour = STABILITY_COLOURS.get(r.get("stability_waves"), "0.6")
         a.scatter(r["layer_thickness"], r["layer_stiffness"], s=260, c=colour, marker="s" if r["status"] == "ok"
                   else "x")
+        if on_saddle(r):
+            a.scatter(r["layer_thickness"], r["layer_stiffness"], s=420, marker="s", facecolors="none",
+                      edgecolors="r", linewidths=1.5)
         if r["status"] == "ok":
             a.annotate(f"{r['F_tilde']:.2f}", (r["layer_thickness"], r["layer_stiffness"]), ha="center",
                        va="center", fontsize=6.5, color="w", weight="bold" if r["F_tilde"] > 1 else "normal")
@@ -411,6 +430,7 @@ if comm.rank == 0:
     for label, colour in STABILITY_COLOURS.items():
         a.scatter([], [], c=colour, marker="s", label=label)
     a.plot([], [], color="gold", lw=2, label="dissertation: F~ > 1")
+    a.scatter([], [], s=80, marker="s", facecolors="none", edgecolors="r", label="ends on a saddle")
     plain_log(a)
     a.set_xlabel(r"$\alpha' = t/a$")
     a.set_ylabel(r"$\beta' = \mu_l/\mu$")
