@@ -198,7 +198,7 @@ class Problem:
             raise RuntimeError(
                 f"SNES ({self.snes.getType()}) reported convergence in 0 iterations, but the residual "
                 f"off the bounds is {norm:.3e} > snes_atol = {atol:.1e}: this SNES type does not "
-                f"handle the contact bounds here; use -{self.prefix}snes_type vinewtonrsls")
+                f"handle these bounds; use -{self.prefix}snes_type vinewtonrsls")
 
     def set_bounds(self, lower, upper) -> None:
         """Variable bounds for a variational-inequality SNES (e.g. ``vinewtonrsls``):
