@@ -4,7 +4,8 @@ Each rank solves its share of the points on its own communicator
 (``comm.Split`` by rank, so every point is a serial solve and the map does not
 depend on the number of ranks). Every finished point is written at once to
 ``points/<key>.json`` (atomically), so a rerun skips it; a failed point is
-recorded with its reason, never dropped (``--retry-failed`` solves it again).
+recorded with its reason and the solver budgets it had, never dropped (``--retry-failed``
+solves it again, and so does a rerun with a larger budget).
 Rank 0 then gathers ``sweep.csv`` and, if it solved anything, ``timing.json``
 (points solved and reused, ranks, wall time).
 """
@@ -59,13 +60,15 @@ def parse_range(name: str, spec: str) -> np.ndarray:
 
 def point_key(values: dict, params=None) -> str:
     """File name of a point: its grid values, plus a digest of every other parameter, so a
-    rerun with different settings never reuses stale points."""
+    rerun with different settings never reuses stale points. Solver budgets (the params'
+    ``BUDGETS``) are left out: they decide whether a point gets through, not its result."""
     key = "_".join(f"{k}={v:.12g}" for k, v in sorted(values.items()))
     if params is None:
         return key
     import hashlib
 
-    settings = {k: v for k, v in dataclasses.asdict(params).items() if k not in values}
+    budgets = getattr(params, "BUDGETS", ())
+    settings = {k: v for k, v in dataclasses.asdict(params).items() if k not in values and k not in budgets}
     digest = hashlib.sha1(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()[:10]
     return f"{key}_{digest}"
 
@@ -83,6 +86,19 @@ def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
         values = dict(zip(names, (float(v) for v in combo)))
         points.append((values, dataclasses.replace(base, **values)))
     return points
+
+
+def _budgets(params) -> dict:
+    return {k: getattr(params, k) for k in getattr(params, "BUDGETS", ())}
+
+
+def _rerun(row: dict, budgets: dict, retry_failed: bool) -> bool:
+    """A recorded point is solved again only if it failed and either ``retry_failed`` or a
+    budget has grown since (a point failed with an unrecorded budget counts as grown)."""
+    if row.get("status") == "ok":
+        return False
+    recorded = row.get("budgets", {})
+    return retry_failed or any(k not in recorded or v > recorded[k] for k, v in budgets.items())
 
 
 def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool = False) -> list[dict]:
@@ -105,7 +121,8 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
         if index % comm.size != comm.rank:
             continue
         path = point_dir / f"{point_key(values, params)}.json"
-        if path.exists() and (not retry_failed or json.loads(path.read_text()).get("status") == "ok"):
+        budgets = _budgets(params)
+        if path.exists() and not _rerun(json.loads(path.read_text()), budgets, retry_failed):
             skipped += 1  # finished before
             continue
         level = logger.level
@@ -113,7 +130,8 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
         try:
             row = {**values, "status": "ok", "reason": "", **solve_point(params, own)}
         except Exception as error:  # recorded, never dropped
-            row = {**values, "status": "failed", "reason": f"{type(error).__name__}: {error}"}
+            row = {**values, "status": "failed", "reason": f"{type(error).__name__}: {error}",
+                   **({"budgets": budgets} if budgets else {})}
             logger.debug(traceback.format_exc())
         finally:
             logger.setLevel(level)
@@ -128,7 +146,7 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
     if comm.rank == 0:
         for values, params in points:
             rows.append(json.loads((point_dir / f"{point_key(values, params)}.json").read_text()))
-        columns = sorted({k for r in rows for k in r}, key=lambda k: (k in ("status", "reason"), k))
+        columns = sorted({k for r in rows for k in r} - {"budgets"}, key=lambda k: (k in ("status", "reason"), k))
         io.write_csv(out / "sweep.csv", rows, comm, columns)
         if total_done:  # a rerun that solved nothing keeps the timing of the run that did
             wall = time.perf_counter() - t0

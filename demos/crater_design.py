@@ -166,6 +166,12 @@ def on_saddle(r) -> bool:
     return r["status"] == "ok" and (r.get("final_unstable_modes") or 0) > 0
 
 
+def still_open(name, r) -> bool:
+    """A closure run whose crater is still open at the closure limit (eps_m None): its force
+    is that of the cycle from eps = crater.MAX_CLOSURE_PRELOAD, not of a closed crater."""
+    return MAPS[name][0].preload == crater.CLOSURE and r["status"] == "ok" and r.get("eps_m", 0) is None
+
+
 def optimum(r, *keys) -> dict:
     return {**{k: r[k] for k in keys}, "ends_on_saddle": on_saddle(r)}
 
@@ -233,6 +239,8 @@ peaks = {kind: best(ok(f"fig8_7b_{kind}"), "F_hat") for kind in ("plain", "layer
 ours["fig8_7b_peaks"] = {kind: optimum(r, "alpha", "F_hat") for kind, r in peaks.items() if r}
 ours["fig8_7cd_optimum"] = {name: optimum(r, "alpha", "preload", "F_hat")
                             for name in ("fig8_7c", "fig8_7d") if (r := best(ok(name), "F_hat"))}
+ours["points_open_at_the_closure_limit"] = {
+    name: [{k: r[k] for k in MAPS[name][1]} for r in rows if still_open(name, r)] for name, rows in results.items()}
 ours["points_ending_on_a_saddle"] = {name: [{k: r[k] for k in MAPS[name][1]} for r in rows if on_saddle(r)]
                                      for name, rows in results.items()}
 for key, value in ours.items():
@@ -284,7 +292,7 @@ io.write_json(args.out / "summary.json", {
 #
 # Contours are drawn over the grid points (dots; failed points are crosses and
 # left blank; a point whose cycle ends on an unstable equilibrium is ringed in red,
-# and so is a curve's point). A map with fewer than two values on an axis (the quick grid) is
+# and so is a curve's point; a closure run still open at eps = 0.85 is boxed in orange). A map with fewer than two values on an axis (the quick grid) is
 # drawn as labelled dots.
 
 # %%
@@ -314,6 +322,8 @@ def contour(ax, name, x, y, key, label, lines=()):
     for r in rows:
         if on_saddle(r):  # ringed: the force of an unstable end state
             ax.plot(r[x], r[y], "o", mfc="none", mec="r", ms=8)
+        if still_open(name, r):  # boxed: not closed by the closure limit
+            ax.plot(r[x], r[y], "s", mfc="none", mec="orange", ms=9)
         if r["status"] == "ok":
             ax.plot(r[x], r[y], ".", color="w" if len(xs) > 1 and len(ys) > 1 else "k", ms=4)
             ax.annotate(f"{r[key]:.2f}", (r[x], r[y]), fontsize=6, xytext=(2, 2), textcoords="offset points")

@@ -118,6 +118,9 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
     (["--self-contact", "5"], "self-contact"),
     (["--waves", "-1"], "waves"),
     (["--waves", "401"], "waves"),
+    (["--max-snaps", "-1"], "max-snaps"),
+    (["--max-snaps", "1001"], "max-snaps"),
+    (["--max-snaps", "2.5"], "max-snaps"),
 ])
 def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
     out = tmp_path / "bad"

@@ -49,6 +49,19 @@ def test_closure_preload_brackets_the_first_closed_state(hemisphere_to_closure):
     assert abs(below["fluid_law_residual"]) < 1e-8
 
 
+def test_a_crater_still_open_at_the_closure_limit_is_a_result(monkeypatch):
+    """``--preload closure`` that reaches MAX_CLOSURE_PRELOAD with the crater open reports
+    so (eps_m None, a note) and cycles from there: the plain cycle at that preload."""
+    monkeypatch.setattr(crater, "MAX_CLOSURE_PRELOAD", 0.1)  # the hemisphere closes at ~0.4
+    summary = cycle(preload=crater.CLOSURE)
+    plain = cycle(preload=0.1)
+    assert summary["eps_m"] is None and summary["preload"] == 0.1
+    assert "does not close up to eps = 0.1" in summary["closure_note"]
+    for key in ("F_tilde", "V1_over_V0", "V2_over_V0", "p2_over_pa"):
+        assert summary[key] == pytest.approx(plain[key], rel=1e-9), key
+    assert abs(summary["fluid_law_residual"]) < 1e-8
+
+
 def test_sweep_is_rank_count_invariant(tmp_path):
     """`bcfem sweep crater` gives the same CSV on 1 and 2 ranks (each point is a serial
     cycle); the stability class is part of it. The alpha axis is given the issue's way,

@@ -62,6 +62,33 @@ def test_a_failed_point_is_recorded_not_dropped(tmp_path):
     assert [r["status"] for r in rows] == ["ok", "ok", "ok"] and calls == [1.0] and rows[1]["value"] == 2.0
 
 
+def test_a_larger_budget_retries_only_the_points_that_ran_out(tmp_path):
+    """Solver budgets (``Params.BUDGETS``) stay out of a point's key: a solved point is
+    reused whatever the budget; a failed one is solved again once the budget has grown."""
+    from bcfem.scenes import crater
+
+    def points(max_snaps):
+        return sweep.grid_points(crater.Params(max_snaps=max_snaps), [("alpha", [0.5, 1.0])])
+
+    calls = []
+
+    def solve(params, comm):
+        calls.append((params.alpha, params.max_snaps))
+        if params.alpha == 1.0 and params.max_snaps < 10:
+            raise RuntimeError(f"more than {params.max_snaps} snaps")
+        return {"value": params.alpha}
+
+    assert [r["status"] for r in sweep.run(points(6), solve, tmp_path)] == ["ok", "failed"]
+    assert [sweep.point_key({"alpha": 1.0}, p) for _, p in points(6)] == \
+        [sweep.point_key({"alpha": 1.0}, p) for _, p in points(24)]
+    for budget in (6, 3):  # the same or a smaller budget: nothing to gain
+        assert [r["status"] for r in sweep.run(points(budget), solve, tmp_path)] == ["ok", "failed"]
+    assert calls == [(0.5, 6), (1.0, 6)]
+    rows = sweep.run(points(24), solve, tmp_path)
+    assert [r["status"] for r in rows] == ["ok", "ok"] and calls[2:] == [(1.0, 24)]
+    assert "budgets" not in (tmp_path / "sweep.csv").read_text()
+
+
 def test_maps_of_failed_points_and_one_value_axes(tmp_path):
     """A sweep whose points all failed still draws its maps (blank panels), and an axis
     with one value is a constant: the CLI then draws curves over the other axis."""

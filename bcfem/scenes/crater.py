@@ -81,7 +81,8 @@ HELP = {
     "fluid": "crater fluid: air (ideal gas, p V = p_a V1) or liquid (incompressible, V = V1)",
     "alpha": "crater aspect b/a, in (0, 1]",
     "beta": "mu / p_a, > 0",
-    "preload": "eps = -dL/L, in [0, 0.9), or closure (the smallest eps with V1 = 0, eps_m)",
+    "preload": "eps = -dL/L, in [0, 0.9), or closure (the smallest eps with V1 = 0, eps_m; a crater still "
+               "open at eps = 0.85 is reported as such and cycled from there)",
     "kappa_ratio": "bulk over shear modulus, in [10, 1e8]",
     "size_crater": "element size at the crater over a, > 0",
     "specimen_radius": "specimen radius Rs [mm]",
@@ -96,11 +97,15 @@ HELP = {
     "self_contact": "penalty of the crater wall's self-contact over mu/L (L: node spacing on the wall), "
                     "0 (off) or in [10, 1e4]; the penetration is about the contact pressure over "
                     "self_contact mu, in units of L",
+    "max_snaps": "budget of snaps (steps passed by pseudo-time relaxation) per stage, 0 to 1000; a path "
+                 "that snaps more often fails (a deepening crease); stiff linings need up to ~20",
     "waves": "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step "
              "(symmetry breaking), 0 (off) to 400",
 }
 #: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
 CLOSURE = -1.0
+#: ``--preload closure`` gives up closing the crater at this preload
+MAX_CLOSURE_PRELOAD = 0.85
 #: how far beyond its original height the platen may lift looking for zero force
 MAX_LIFT = 0.1
 #: a crater with V <= CLOSED V0 counts as closed (vacuum inside)
@@ -137,6 +142,11 @@ class Params:
     layer_stiffness: float = 1.0
     self_contact: float = 100.0
     waves: int = 0
+    max_snaps: int = 24
+
+    #: solver budgets: they decide whether a path gets through, never where it goes, so a
+    #: sweep reuses a solved point whatever its budget (and retries one that ran out)
+    BUDGETS = ("max_snaps",)
 
     CHOICES = {"fluid": list(FLUIDS)}
     WORDS = {"preload": {"closure": CLOSURE}}
@@ -156,6 +166,8 @@ class Params:
                 f"self-contact must be 0 (off) or in [10, 1e4] (got {self.self_contact})")
         require(self.waves == int(self.waves) and 0 <= self.waves <= 400,
                 f"waves must be an integer in [0, 400] (got {self.waves})")
+        require(self.max_snaps == int(self.max_snaps) and 0 <= self.max_snaps <= 1000,
+                f"max-snaps must be an integer in [0, 1000] (got {self.max_snaps})")
         require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
         self.geometry()  # validates alpha, radii and sizes before any meshing
 
@@ -320,11 +332,12 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
                       line_search_fallbacks=LINE_SEARCH_FALLBACKS)
     model.contact_bounds(loading)
     path = LoadPath(loading, set_platen, "load", model.viscosity, relax_stiffness, multipliers, events=events,
-                    waves=model.wave_check(model.terms(), "bcfem_crater_load_modes_"))
+                    max_snaps=params.max_snaps, waves=model.wave_check(model.terms(), "bcfem_crater_load_modes_"))
     path.start()
     try:
-        if params.preload == CLOSURE:
-            preload = _load_to_closure(model, path, rows, params)
+        closes = params.preload == CLOSURE
+        if closes:
+            preload, closes = _load_to_closure(model, path, rows, params)
         else:
             preload = params.preload
             _through(path, 0.0, preload, params.strain_step, lambda e: rows.append(model.observe("load", e)))
@@ -332,7 +345,7 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
         loading.close()
     V1 = rows[-1]["V"]
     # full closure: nothing left inside (closure mode neglects a trapped remnant <= CLOSURE_VOLUME V0)
-    closed = V1 <= CLOSED * model.geometry.crater_volume or params.preload == CLOSURE
+    closed = V1 <= CLOSED * model.geometry.crater_volume or closes
     if closed and params.fluid == "liquid":
         # an incompressible liquid crater that closed stays closed: V2 = V1 = 0, F = 0 (eq. 8.8)
         final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
@@ -354,14 +367,15 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     platen_force = fem.form(ufl.derivative(lagrangian, model.u, w))  # compression < 0
     waves = model.wave_check(terms, "bcfem_crater_unload_modes_")
     path = LoadPath(unloading, set_platen, "unload", model.viscosity, relax_stiffness, multipliers, events=events,
-                    waves=waves)
+                    max_snaps=params.max_snaps, waves=waves)
     V1_sealed = 0.0 if closed else V1
     try:
         path.start()
         if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
             ramp = model.ctx.constant("vacuum_load")
             sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", model.viscosity,
-                               relax_stiffness, multipliers, events=events, waves=waves)
+                               relax_stiffness, multipliers, events=events, max_snaps=params.max_snaps,
+                               waves=waves)
             sealing.start()
             first = len(events)
             sealing.advance(0.0, 1.0, 0.25)
@@ -443,8 +457,9 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
         "fluid_law_residual": 0.0 if closed else
         (final["p_over_pa"] if params.fluid == "air" else 1.0) * final["V"] / V1 - 1,
         "eps_closure": _first_closure(rows, geometry.crater_volume),
-        "eps_m": preload if params.preload == CLOSURE else None,
-        "closure_note": None if not closed else (
+        "eps_m": preload if params.preload == CLOSURE and closed else None,
+        "closure_note": (f"does not close up to eps = {preload:g}: the cycle runs from there"
+                         if params.preload == CLOSURE else None) if not closed else (
             "closed on loading: an incompressible liquid crater stays closed, F = 0 (eq. 8.8)"
             if params.fluid == "liquid" else "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)")
         + (f"; a trapped remnant V1 = {V1 / geometry.crater_volume:.2g} V0 is neglected"
@@ -490,7 +505,7 @@ def symmetry_breaking(events) -> dict:
     return first
 
 
-def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisections: int = 10) -> float:
+def _load_to_closure(model, path, rows, params, bisections: int = 10) -> tuple[float, bool]:
     """Stage 1 up to the smallest preload that closes the crater, eps_m (to a 2^-bisections
     fraction of the last step, or to the bracket where a snap-through closure stops the
     bisection): load until the crater is closed, then bisect between the last open and
@@ -498,7 +513,11 @@ def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisec
     lies on the plate up to the axis (A1 <= ``CLOSED_AREA`` A0) with at most
     ``TRAPPED_VOLUME`` V0 left in pockets (a wall that folds onto the plate, e.g. a thin
     stiff layer, traps pockets that never close). Stage 2 neglects the remnant, which
-    changes F by at most V1/V2; the summary reports V1."""
+    changes F by at most V1/V2; the summary reports V1.
+
+    Returns (eps_m, True), or (``MAX_CLOSURE_PRELOAD``, False) for a crater still open there
+    (a result, e.g. a thick stiff lining that holds it open: the cycle then runs from there)."""
+    max_preload = MAX_CLOSURE_PRELOAD
     V0 = model.geometry.crater_volume
 
     def closed(row) -> bool:
@@ -517,7 +536,7 @@ def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisec
 
     closed_at = _through(path, 0.0, max_preload, params.strain_step, accept)
     if not closed(rows[-1]):
-        raise SteppingError(f"load: the crater is still open at eps = {closed_at:.4g}", closed_at)
+        return closed_at, False
     closed_state = path.mark(closed_at)
     for _ in range(bisections):
         low = path.rewind(open_state)
@@ -535,7 +554,7 @@ def _load_to_closure(model, path, rows, params, max_preload: float = 0.85, bisec
         else:
             open_state = path.mark(mid)
     path.rewind(closed_state)
-    return closed_at
+    return closed_at, True
 
 
 def _first_closure(rows, V0: float) -> float | None:
@@ -583,7 +602,7 @@ def sweep_point(params: Params, comm) -> dict:
     """One point of ``bcfem sweep crater``: the cycle's end values."""
     _, summary = solve(params, comm)
     point = {k: summary[k] for k in ("F_tilde", "F_hat", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
-                                     "eps_at_zero_force", "preload", "stability", "final_unstable_modes")}
+                                     "eps_at_zero_force", "preload", "eps_m", "stability", "final_unstable_modes")}
     point["stability_code"] = STABILITY.index(summary["stability"])  # a number for contour maps
     if params.waves:
         point["stability_waves"] = summary["stability_waves"]
