@@ -7,7 +7,8 @@ depend on the number of ranks). Every finished point is written at once to
 recorded with its reason and the solver budgets it had, never dropped (``--retry-failed``
 solves it again, and so does a rerun with a larger budget).
 Rank 0 then gathers ``sweep.csv`` and, if it solved anything, ``timing.json``
-(points solved and reused, ranks, wall time).
+(points solved and reused, ranks, wall time of this run). Each point also keeps its own
+``solve_time_s``, so the cost of a map solved over several (interrupted) runs is known.
 """
 
 from __future__ import annotations
@@ -25,6 +26,10 @@ from mpi4py import MPI
 
 from bcfem import io
 from bcfem.log import logger
+
+
+#: kept in a point's record, not in sweep.csv (which depends on the results alone)
+RECORD_ONLY = {"budgets", "solve_time_s"}
 
 
 def parse_axis(text: str) -> tuple[str, np.ndarray]:
@@ -127,6 +132,7 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
             continue
         level = logger.level
         logger.setLevel(logging.WARNING)  # no per-step progress from inside a point
+        start = time.perf_counter()
         try:
             row = {**values, "status": "ok", "reason": "", **solve_point(params, own)}
         except Exception as error:  # recorded, never dropped
@@ -135,6 +141,7 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
             logger.debug(traceback.format_exc())
         finally:
             logger.setLevel(level)
+        row["solve_time_s"] = time.perf_counter() - start  # kept with the point: survives an interrupted run
         io.write_json(path, row, own)
         done += 1
         logger.info(f"sweep: point {index + 1}/{len(points)} {point_key(values)}: {row['status']}")
@@ -146,7 +153,7 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
     if comm.rank == 0:
         for values, params in points:
             rows.append(json.loads((point_dir / f"{point_key(values, params)}.json").read_text()))
-        columns = sorted({k for r in rows for k in r} - {"budgets"}, key=lambda k: (k in ("status", "reason"), k))
+        columns = sorted({k for r in rows for k in r} - RECORD_ONLY, key=lambda k: (k in ("status", "reason"), k))
         io.write_csv(out / "sweep.csv", rows, comm, columns)
         if total_done:  # a rerun that solved nothing keeps the timing of the run that did
             wall = time.perf_counter() - t0
