@@ -23,7 +23,8 @@ class Problem:
         ctx: the context; its states are collected after the energies are built.
         terms: energy terms, each with ``energy(ctx)`` (a UFL form), or discrete terms
             (``is_discrete``, e.g. self-contact) that add their residual and tangent to the
-            assembled system: ``bind(problem)``, ``add_residual(b)``, ``add_jacobian(A)``.
+            assembled system: ``bind(problem)``, ``add_residual(b)``, ``add_jacobian(A)``,
+            and optionally ``begin_solve()``, called before each Newton solve.
         bcs: Dirichlet conditions on the displacement.
         prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
         petsc_options: scene defaults, layered over bcfem's (the user's win).
@@ -162,6 +163,9 @@ class Problem:
     def _newton(self) -> bool:
         x = self._nlp.x
         assign(self.states, x)
+        for term in self.discrete:
+            if hasattr(term, "begin_solve"):
+                term.begin_solve()
         try:
             self.snes.solve(None, x)
             self.reason = self.snes.getConvergedReason()

@@ -16,7 +16,10 @@ with ℓ_p the reference length that node p stands for. The penalty makes the
 penetration O(μ/k) = O(L/c_k) of the contact pressure over μ. A pair counts
 only when p projects onto the segment, faces it (opposite normals) and lies
 less than ``depth`` L behind it, so that a sharp fold of the solid (the
-solid, not the free side, inside the fold) is not taken for contact.
+solid, not the free side, inside the fold) is not taken for contact. Whether a
+node faces a segment is decided once per Newton solve, at its start: at the tip
+of a fold the node's mean normal turns edge-on, and a test at every iterate
+switched the pair on and off between iterates (a Newton 2-cycle).
 
 The pairs couple boundary nodes far apart in the mesh, so this term is not a
 UFL form: it adds its residual and exact Hessian (frozen pairs) to the
@@ -88,6 +91,7 @@ class WallSelfContact:
         self.facet_tags, self.boundary = facet_tags, boundary
         self.modulus, self.penalty, self.depth = modulus, penalty, depth
         self.active = 0  # pairs in contact at the last evaluation
+        self.facing = None  # (owned nodes, segments): who faces whom, frozen per solve
 
     # -- set-up ---------------------------------------------------------------------------
     def bind(self, problem) -> None:
@@ -177,24 +181,33 @@ class WallSelfContact:
             x[nodes] += d
         return x
 
+    def _facing(self, x: np.ndarray) -> np.ndarray:
+        """(owned nodes x segments): the node's mean normal opposes the segment's."""
+        seg = self.segments
+        d = x[seg[:, 1]] - x[seg[:, 0]]
+        seg_normal = (_ROT @ d.T).T / np.linalg.norm(d, axis=1)[:, None]
+        node_normal = np.zeros_like(x)
+        np.add.at(node_normal, seg[:, 0], seg_normal)
+        np.add.at(node_normal, seg[:, 1], seg_normal)
+        return node_normal[self.owned] @ seg_normal.T < 0
+
+    def begin_solve(self) -> None:
+        """Freeze who faces whom at the state a Newton solve starts from."""
+        self.facing = self._facing(self._positions())
+
     def pairs(self, x: np.ndarray):
         """The contacts of this rank's nodes: (node, segment, gap) arrays."""
         seg = self.segments
         a, b = x[seg[:, 0]], x[seg[:, 1]]
-        d = b - a
-        length = np.linalg.norm(d, axis=1)
-        seg_normal = (_ROT @ d.T).T / length[:, None]
-        node_normal = np.zeros_like(x)
-        np.add.at(node_normal, seg[:, 0], seg_normal)
-        np.add.at(node_normal, seg[:, 1], seg_normal)
+        length = np.linalg.norm(b - a, axis=1)
         nodes = self.owned
         if nodes.size == 0 or seg.size == 0:
             empty = np.zeros(0, dtype=np.int64)
             return empty, empty, np.zeros(0)
+        facing = (self._facing(x) if self.facing is None else self.facing).reshape(-1)
         P = np.repeat(nodes, len(seg))
         S = np.tile(np.arange(len(seg)), nodes.size)
         g, xi = gap(x[P], a[S], b[S])
-        facing = np.einsum("ij,ij->i", node_normal[P], seg_normal[S]) < 0
         hit = ((g <= 0) & (g > -self.depth * length[S]) & (xi >= self.xi_min[S]) & (xi < self.xi_max[S]) & facing
                & ~self.excluded[P, S] & (self.weight[P] > 0))
         return P[hit], S[hit], g[hit]

@@ -86,14 +86,21 @@ def main() -> None:
 
 
 def maps() -> list[dict]:
-    """Each map's sweep timing (points solved and reused, ranks, wall time)."""
+    """Each map's cost: its points' own solve times (``solve_time_s`` in each point's record:
+    the sum over every run that solved them, interrupted ones included), and the last run's
+    ``timing.json`` (points solved and reused, ranks, wall time)."""
     out = []
-    for path in sorted(MAPS.glob("*/timing.json")):
-        timing = json.loads(path.read_text())
-        rows = list(csv.DictReader((path.parent / "sweep.csv").open()))
+    for path in sorted(MAPS.glob("*/sweep.csv")):
+        timing_file = path.parent / "timing.json"
+        timing = json.loads(timing_file.read_text()) if timing_file.exists() else {}
+        rows = list(csv.DictReader(path.open()))
+        records = [json.loads(p.read_text()) for p in (path.parent / "points").glob("*.json")]
+        timed = [r["solve_time_s"] for r in records if "solve_time_s" in r]
         # points and failures as the map stands now (a later rerun may have solved a failed point)
-        out.append({**timing, "map": path.parent.name, "points": len(rows),
-                    "failed": sum(r["status"] != "ok" for r in rows)})
+        out.append({"map": path.parent.name, "points": len(rows), "failed": sum(r["status"] != "ok" for r in rows),
+                    "timed": len(timed), "core_seconds": sum(timed),
+                    "slowest_point_s": max(timed, default=math.nan),
+                    "last_run": {k: timing.get(k) for k in ("solved", "reused", "ranks", "wall_time_s")}})
     return out
 
 
@@ -129,18 +136,28 @@ def write(rows, refs, timings, wall, load) -> None:
 def markdown(rows, refs, timings, wall, load) -> str:
     L = ["# Benchmark: the crater design space (scene `crater`, `demos/crater_design.py`)", "",
          f"Regenerate with `{COMMAND}` (or `make bench`; {wall / 60:.1f} min for the mesh study). The map table "
-         "reads the `timing.json` of each map's sweep directory.", "",
-         "## Published maps: wall time on 2 ranks", "",
+         "reads each map's sweep directory (`docs/figures/crater_design/sweeps/<map>/`).", "",
+         "## Published maps: cost on 2 ranks", "",
          "Each map is one `mpirun -n 2 bcfem sweep crater ...` command (listed in `docs/craters.md`); "
-         "the points are spread over the ranks, each a serial cycle. Core-seconds per point = wall time x "
-         "ranks / points solved.", "",
-         "| map | points | failed | ranks | wall [s] | core-s per point |", "|---|---|---|---|---|---|"]
+         "the points are spread over the ranks, each a serial cycle. `core-s` is the sum of the points' own "
+         "solve times (each point records it, so a map finished over several interrupted runs is counted in "
+         "full; `timed` says how many points carry a time: points solved before this was recorded have none); "
+         "`wall on 2 ranks` = core-s / 2, the wall time of one run with the points evenly shared "
+         "(the slowest point bounds it from below). `last run`: the `timing.json` of the run that finished "
+         "the map (points solved / reused, wall time).", "",
+         "| map | points | failed | timed | core-s | core-s per point | slowest point [s] | wall on 2 ranks [min] "
+         "| last run: solved / reused, wall [s] |", "|---|---|---|---|---|---|---|---|---|"]
     for t in timings:
-        L.append(f"| {t['map']} | {t['points']} | {t['failed']} | {t['ranks']} | {t['wall_time_s']:.0f} | "
-                 f"{t['core_seconds_per_solved_point']:.1f} |")
+        last = t["last_run"]
+        run = "-" if last["wall_time_s"] is None else f"{last['solved']} / {last['reused']}, {last['wall_time_s']:.0f}"
+        per = t["core_seconds"] / t["timed"] if t["timed"] else math.nan
+        L.append(f"| {t['map']} | {t['points']} | {t['failed']} | {t['timed']} | {t['core_seconds']:.0f} | "
+                 f"{per:.1f} | {t['slowest_point_s']:.0f} | {t['core_seconds'] / 120:.1f} | {run} |")
     if timings:
-        total = sum(t["wall_time_s"] for t in timings)
-        L += ["", f"All maps: {total / 60:.1f} min on {timings[0]['ranks']} ranks."]
+        total = sum(t["core_seconds"] for t in timings)
+        untimed = sum(t["points"] - t["timed"] for t in timings)
+        L += ["", f"All maps: {total / 3600:.2f} core-hours, {total / 120:.0f} min on 2 ranks"
+              + (f" ({untimed} points carry no time and are not counted)" if untimed else "") + "."]
     L += ["", "## Mesh convergence of F~ at three representative points", "",
           "One cycle per mesh in a fresh process on one core (`size_crater` = element size at the crater / a; "
           "P2-P1 Taylor-Hood). The error is |F~/F~_ref - 1|; F^ = F~/beta has the same relative error. "
