@@ -458,12 +458,7 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
         (final["p_over_pa"] if params.fluid == "air" else 1.0) * final["V"] / V1 - 1,
         "eps_closure": _first_closure(rows, geometry.crater_volume),
         "eps_m": preload if params.preload == CLOSURE and closed else None,
-        "closure_note": (f"does not close up to eps = {preload:g}: the cycle runs from there"
-                         if params.preload == CLOSURE else None) if not closed else (
-            "closed on loading: an incompressible liquid crater stays closed, F = 0 (eq. 8.8)"
-            if params.fluid == "liquid" else "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)")
-        + (f"; a trapped remnant V1 = {V1 / geometry.crater_volume:.2g} V0 is neglected"
-           if V1 > CLOSED * geometry.crater_volume else ""),
+        "closure_note": _closure_note(params, closed, preload, V1 / geometry.crater_volume),
         "stability": classify(events),
         "final_unstable_modes": final_unstable,
         "symmetry_breaking": symmetry_breaking(events) if params.waves else None,
@@ -479,6 +474,18 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
     for row in rows:
         row.pop("V")
     return rows, summary
+
+
+def _closure_note(params, closed: bool, preload: float, V1_over_V0: float) -> str | None:
+    """What closure means for this cycle's force (None: an open crater at a given preload)."""
+    if not closed:
+        return f"does not close up to eps = {preload:g}: the cycle runs from there" \
+            if params.preload == CLOSURE else None
+    note = ("closed on loading: an incompressible liquid crater stays closed, F = 0 (eq. 8.8)"
+            if params.fluid == "liquid" else "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)")
+    if V1_over_V0 > CLOSED:
+        note += f"; a trapped remnant V1 = {V1_over_V0:.2g} V0 is neglected"
+    return note
 
 
 def classify(events) -> str:
