@@ -1,14 +1,18 @@
 """Parameter sweeps: independent points spread over MPI ranks, resumable, one CSV.
 
-Each rank solves its share of the points on its own communicator
-(``comm.Split`` by rank, so every point is a serial solve and the map does not
-depend on the number of ranks). Every finished point is written at once to
-``points/<key>.json`` (atomically), so a rerun skips it; a failed point is
-recorded with its reason and the solver budgets it had, never dropped (``--retry-failed``
-solves it again, and so does a rerun with a larger budget).
-Rank 0 then gathers ``sweep.csv`` and, if it solved anything, ``timing.json``
-(points solved and reused, ranks, wall time of this run). Each point also keeps its own
-``solve_time_s``, so the cost of a map solved over several (interrupted) runs is known.
+Each rank solves points on its own communicator (``comm.Split`` by rank, so
+every point is a serial solve and the map does not depend on the number of
+ranks). Points are handed out as the ranks become free: every rank walks the
+points in order and takes the first one no rank has claimed (an exclusively
+created file), so one slow point does not leave the other ranks idle.
+
+Every finished point is written at once to ``points/<key>.json`` (atomically),
+so a rerun skips it; a failed point is recorded with its reason and the solver
+budgets it had, never dropped (``--retry-failed`` solves it again, and so does a
+rerun with a larger budget). Rank 0 then gathers ``sweep.csv`` and, if it solved
+anything, ``timing.json`` (points solved and reused, ranks, wall time of this
+run). Each point also keeps its own ``solve_time_s``, so the cost of a map
+solved over several (interrupted) runs is known.
 """
 
 from __future__ import annotations
@@ -17,8 +21,11 @@ import dataclasses
 import itertools
 import json
 import logging
+import os
+import shutil
 import time
 import traceback
+import uuid
 from pathlib import Path
 
 import numpy as np
@@ -120,12 +127,20 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
     if comm.rank == 0:
         point_dir.mkdir(parents=True, exist_ok=True)
     comm.barrier()
+    # this run's claims (an interrupted run leaves its directory behind, ignored by the next)
+    claims = point_dir / f".claims-{comm.bcast(uuid.uuid4().hex[:12] if comm.rank == 0 else None)}"
+    if comm.rank == 0:
+        claims.mkdir()
+    comm.barrier()
     own = comm.Split(color=comm.rank, key=0)
     done = skipped = 0
     for index, (values, params) in enumerate(points):
-        if index % comm.size != comm.rank:
-            continue
-        path = point_dir / f"{point_key(values, params)}.json"
+        key = point_key(values, params)
+        try:
+            os.close(os.open(claims / key, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        except FileExistsError:
+            continue  # another rank has taken it
+        path = point_dir / f"{key}.json"
         budgets = _budgets(params)
         if path.exists() and not _rerun(json.loads(path.read_text()), budgets, retry_failed):
             skipped += 1  # finished before
@@ -151,6 +166,7 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
     comm.barrier()
     rows = []
     if comm.rank == 0:
+        shutil.rmtree(claims)
         for values, params in points:
             rows.append(json.loads((point_dir / f"{point_key(values, params)}.json").read_text()))
         columns = sorted({k for r in rows for k in r} - RECORD_ONLY, key=lambda k: (k in ("status", "reason"), k))

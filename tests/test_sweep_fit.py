@@ -1,6 +1,8 @@
 """Sweeps (rank-count invariant, resumable, failures kept) and the inverse fit."""
 
 
+import json
+
 import numpy as np
 import pytest
 from mpi4py import MPI
@@ -28,6 +30,8 @@ def test_sweep_is_rank_count_invariant_and_resumable(tmp_path):
     res = bcfem(*GRID[:-1], "--out", str(serial))
     assert "0 points solved, 4 reused" in res.stderr
     assert stamp == {p.name: p.stat().st_mtime_ns for p in (serial / "points").iterdir()}
+    # the ranks' claims on points are cleared at the end of a run
+    assert not list((parallel / "points").glob(".claims-*")) and not list((serial / "points").glob(".claims-*"))
 
 
 def sweep_rows(out):
@@ -87,6 +91,41 @@ def test_a_larger_budget_retries_only_the_points_that_ran_out(tmp_path):
     rows = sweep.run(points(24), solve, tmp_path)
     assert [r["status"] for r in rows] == ["ok", "ok"] and calls[2:] == [(1.0, 24)]
     assert "budgets" not in (tmp_path / "sweep.csv").read_text() and rows[1]["solve_time_s"] >= 0
+
+
+SLOW_FIRST = """
+import json, sys, time
+from mpi4py import MPI
+from bcfem import sweep
+from bcfem.scenes import blister_rigid
+
+def solve(params, comm):
+    time.sleep(3.0 if params.alpha == 0 else 0.2)  # the first point is slow
+    return {"rank": MPI.COMM_WORLD.rank}
+
+rows = sweep.run(sweep.grid_points(blister_rigid.Params(), [("alpha", [0.0, 1.0, 2.0, 3.0, 4.0])]), solve,
+                 sys.argv[1])
+if MPI.COMM_WORLD.rank == 0:
+    print(json.dumps([r["rank"] for r in rows]))
+"""
+
+
+def test_points_go_to_the_rank_that_is_free(tmp_path):
+    """On 2 ranks, the rank that took a slow first point solves nothing else: the other
+    rank takes every later point as it becomes free (a fixed round-robin would have given
+    the slow rank every other point)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = tmp_path / "slow_first.py"
+    script.write_text(SLOW_FIRST)
+    mpirun = Path(sys.executable).parent / "mpirun"
+    res = subprocess.run([str(mpirun), "-n", "2", sys.executable, str(script), str(tmp_path / "out")],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    ranks = json.loads(res.stdout.strip().splitlines()[-1])
+    assert ranks[0] not in ranks[1:] and len(set(ranks[1:])) == 1, ranks
 
 
 def test_maps_of_failed_points_and_one_value_axes(tmp_path):
