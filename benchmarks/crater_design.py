@@ -150,14 +150,17 @@ def markdown(rows, refs, timings, wall, load) -> str:
     for t in timings:
         last = t["last_run"]
         run = "-" if last["wall_time_s"] is None else f"{last['solved']} / {last['reused']}, {last['wall_time_s']:.0f}"
-        per = t["core_seconds"] / t["timed"] if t["timed"] else math.nan
-        L.append(f"| {t['map']} | {t['points']} | {t['failed']} | {t['timed']} | {t['core_seconds']:.0f} | "
-                 f"{per:.1f} | {t['slowest_point_s']:.0f} | {t['core_seconds'] / 120:.1f} | {run} |")
+        timed = [f"{t['core_seconds']:.0f}", f"{t['core_seconds'] / t['timed']:.1f}", f"{t['slowest_point_s']:.0f}",
+                 f"{t['core_seconds'] / 120:.1f}" + ("" if t["timed"] == t["points"] else " (timed points)")] \
+            if t["timed"] else ["-"] * 4
+        L.append(f"| {t['map']} | {t['points']} | {t['failed']} | {t['timed']} | {' | '.join(timed)} | {run} |")
     if timings:
         total = sum(t["core_seconds"] for t in timings)
         untimed = sum(t["points"] - t["timed"] for t in timings)
-        L += ["", f"All maps: {total / 3600:.2f} core-hours, {total / 120:.0f} min on 2 ranks"
-              + (f" ({untimed} points carry no time and are not counted)" if untimed else "") + "."]
+        L += ["", f"All timed points: {total / 3600:.2f} core-hours, {total / 120:.0f} min on 2 ranks"
+              + (f"; {untimed} points carry no time and are not counted (their maps' `last run` column "
+                 "gives the wall time of the run that solved them, where it solved them all)" if untimed else "")
+              + "."]
     L += ["", "## Mesh convergence of F~ at three representative points", "",
           "One cycle per mesh in a fresh process on one core (`size_crater` = element size at the crater / a; "
           "P2-P1 Taylor-Hood). The error is |F~/F~_ref - 1|; F^ = F~/beta has the same relative error. "
