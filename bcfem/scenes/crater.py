@@ -117,8 +117,8 @@ CLOSED_AREA = 2.5e-3
 TRAPPED_VOLUME = 1e-2
 #: full Newton steps can cycle between two contact active sets (seen on unloading at
 #: alpha = 1, beta = 5: the residual alternates 3.48 / 3.61); backtracking breaks the cycle
-#: there, and where it stalls (a lining alpha' = 0.06, beta' = 3 at eps = 0.273), a line
-#: search along Newton's direction on the energy does
+#: there, and where it stalls, a line search along Newton's direction on the energy may (the
+#: (0.06, 3) lining's cycle was the self-contact's facing test instead, see self_contact.py)
 LINE_SEARCH_FALLBACKS = ("bt", "cp")
 COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
 
