@@ -94,3 +94,39 @@ def test_a_vi_convergence_in_zero_iterations_off_equilibrium_is_an_error():
     # the check, u = 0 would be accepted
     with pytest.raises(RuntimeError, match="0 iterations.*vinewtonrsls"):
         solve_obstacle("vinewtonssls")
+
+
+class Saddle:
+    """(w u^2/2 - u) with w = +1 on x < 1/2 and -1 beyond, on two DG0 cells: an indefinite
+    tangent. From u = 0 the Newton step Y has dot(F, Y) = 0 exactly although F != 0, which
+    PETSc's cp line search takes for a critical point and reports as CONVERGED_FNORM_ABS."""
+
+    def energy(self, ctx):
+        x = ufl.SpatialCoordinate(ctx.mesh)
+        w = ufl.conditional(ufl.lt(x[0], 0.5), 1.0, -1.0)
+        return (0.5 * w * ctx.u**2 - ctx.u) * ufl.dx
+
+
+def solve_saddle(line_search):
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 2)
+    V = fem.functionspace(msh, ("DG", 0))
+    ctx = Context(fem.Function(V))
+    with Problem(ctx, [Saddle()], [], "bcfem_test_cp_", {"snes_linesearch_type": line_search}) as problem:
+        ok = problem.solve()
+        x = V.tabulate_dof_coordinates()[:, 0]
+        return ok, problem.reason, x, ctx.u.x.array.copy()
+
+
+def test_newton_solves_the_saddle():
+    ok, _, x, u = solve_saddle("basic")
+    assert ok
+    assert np.allclose(u, np.where(x < 0.5, 1.0, -1.0), atol=1e-12)
+
+
+def test_the_cp_line_searchs_critical_point_exit_is_not_convergence():
+    # PETSc stops there with CONVERGED_FNORM_ABS and the residual unchanged; accepted, the
+    # state u = 0 (no equilibrium) would pass as one
+    ok, reason, _, u = solve_saddle("cp")
+    assert reason == PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
+    assert not ok
+    assert np.all(u == 0.0)
