@@ -70,6 +70,8 @@ class Problem:
             else tuple(line_search_fallbacks)
         self.iterations = 0
         self.reason = 0
+        #: how often cp's critical-point exit had to be finished by Newton steps
+        self.critical_point_exits = 0
         self._tangent_ksp = None
         for term in self.discrete:
             term.bind(self)
@@ -163,15 +165,20 @@ class Problem:
     def _newton(self) -> bool:
         x = self._nlp.x
         assign(self.states, x)
-        for term in self.discrete:
-            if hasattr(term, "begin_solve"):
-                term.begin_solve()
-        try:
-            self.snes.solve(None, x)
-            self.reason = self.snes.getConvergedReason()
-        except PETSc.Error:
-            self.reason = -100  # e.g. a NaN pivot from an inverted iterate
-        self.iterations = self.snes.getIterationNumber()
+        self._snes_solve(x)
+        iterations = self.iterations
+        if self._critical_point_exit():
+            # cp left x where it stopped: finish from there with full Newton steps
+            self.critical_point_exits += 1
+            line_search = self.snes.getLineSearch()
+            chosen = line_search.getType()
+            line_search.setType("basic")
+            try:
+                self._snes_solve(x)
+            finally:
+                line_search.setType(chosen)
+            iterations += self.iterations
+        self.iterations = iterations
         ok = self.reason > 0 and np.isfinite(x.norm()) and not self._critical_point_exit()
         # vinewtonrsls tests convergence on the reduced norm it reports, so only other VI
         # types need the norm recomputed
@@ -184,6 +191,17 @@ class Problem:
             # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
             self.snes.getKSP().getPC().reset()
         return ok
+
+    def _snes_solve(self, x: PETSc.Vec) -> None:
+        for term in self.discrete:
+            if hasattr(term, "begin_solve"):
+                term.begin_solve()
+        try:
+            self.snes.solve(None, x)
+            self.reason = self.snes.getConvergedReason()
+        except PETSc.Error:
+            self.reason = -100  # e.g. a NaN pivot from an inverted iterate
+        self.iterations = self.snes.getIterationNumber()
 
     def _critical_point_exit(self) -> bool:
         """PETSc's cp line search reports CONVERGED_FNORM_ABS when dot(F, Y) ~ 0 for the
