@@ -49,8 +49,8 @@ def count_newton():
     count = {"solves": 0, "its": 0}
     solve = Problem.solve
 
-    def counted(self):
-        ok = solve(self)
+    def counted(self, *args, **kwargs):
+        ok = solve(self, *args, **kwargs)
         count["solves"] += 1
         count["its"] += self.iterations
         return ok

@@ -431,6 +431,9 @@ if comm.rank == 0:
         if on_saddle(r):
             a.scatter(r["layer_thickness"], r["layer_stiffness"], s=420, marker="s", facecolors="none",
                       edgecolors="r", linewidths=1.5)
+        if still_open("fig7_11b", r):
+            a.scatter(r["layer_thickness"], r["layer_stiffness"], s=620, marker="s", facecolors="none",
+                      edgecolors="orange", linewidths=1.5)
         if r["status"] == "ok":
             a.annotate(f"{r['F_tilde']:.2f}", (r["layer_thickness"], r["layer_stiffness"]), ha="center",
                        va="center", fontsize=6.5, color="w", weight="bold" if r["F_tilde"] > 1 else "normal")
@@ -441,6 +444,8 @@ if comm.rank == 0:
         a.scatter([], [], c=colour, marker="s", label=label)
     a.plot([], [], color="gold", lw=2, label="dissertation: F~ > 1")
     a.scatter([], [], s=80, marker="s", facecolors="none", edgecolors="r", label="ends on a saddle")
+    a.scatter([], [], s=80, marker="s", facecolors="none", edgecolors="orange",
+              label=f"open at eps = {crater.MAX_CLOSURE_PRELOAD}")
     plain_log(a)
     a.set_xlabel(r"$\alpha' = t/a$")
     a.set_ylabel(r"$\beta' = \mu_l/\mu$")
