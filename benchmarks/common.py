@@ -65,6 +65,32 @@ def loadavg() -> str:
     return p.read_text().split()[0] if p.exists() else "?"
 
 
+def busy_cores(seconds: float = 3.0) -> float:
+    """Cores kept busy by other processes over ``seconds`` (from /proc/stat; nan if unknown)."""
+    def sample():
+        fields = [float(x) for x in Path("/proc/stat").read_text().splitlines()[0].split()[1:]]
+        return sum(fields), fields[3] + fields[4]  # total, idle + iowait
+
+    try:
+        t0, i0 = sample()
+        time.sleep(seconds)
+        t1, i1 = sample()
+    except (OSError, ValueError, IndexError):
+        return math.nan
+    return (os.cpu_count() or 1) * (1 - (i1 - i0) / (t1 - t0))
+
+
+def wait_idle(max_wait: float) -> tuple[float, float]:
+    """Wait up to ``max_wait`` s for the machine to be idle (< 0.2 busy cores); returns
+    (seconds waited, busy cores at the end)."""
+    t0 = time.perf_counter()
+    busy = busy_cores()
+    while busy > 0.2 and time.perf_counter() - t0 < max_wait:
+        time.sleep(10)
+        busy = busy_cores()
+    return time.perf_counter() - t0, busy
+
+
 def richardson(coarse, fine, order):
     return fine + (fine - coarse) / (2**order - 1)
 

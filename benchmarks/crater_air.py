@@ -49,7 +49,7 @@ import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg  # noqa: E402
+from common import ROOT, atomic_text, busy_cores, count_newton, csv_text, fmt, loadavg, wait_idle  # noqa: E402
 
 OUT = ROOT / "docs" / "benchmarks"
 BIN = Path(sys.executable).parent
@@ -199,32 +199,6 @@ def snapshot_library() -> tuple[Path, str]:
     shutil.copytree(ROOT / "bcfem", tmp / "bcfem", ignore=shutil.ignore_patterns("__pycache__"))
     os.environ["PYTHONPATH"] = os.pathsep.join([str(tmp), *filter(None, [os.environ.get("PYTHONPATH")])])
     return tmp, library_hash(tmp / "bcfem")
-
-
-def busy_cores(seconds: float = 3.0) -> float:
-    """Cores kept busy by other processes over ``seconds`` (from /proc/stat; nan if unknown)."""
-    def sample():
-        fields = [float(x) for x in Path("/proc/stat").read_text().splitlines()[0].split()[1:]]
-        return sum(fields), fields[3] + fields[4]  # total, idle + iowait
-
-    try:
-        t0, i0 = sample()
-        time.sleep(seconds)
-        t1, i1 = sample()
-    except (OSError, ValueError, IndexError):
-        return math.nan
-    return (os.cpu_count() or 1) * (1 - (i1 - i0) / (t1 - t0))
-
-
-def wait_idle(max_wait: float) -> tuple[float, float]:
-    """Wait up to ``max_wait`` s for the machine to be idle (< 0.2 busy cores); returns
-    (seconds waited, busy cores at the end)."""
-    t0 = time.perf_counter()
-    busy = busy_cores()
-    while busy > 0.2 and time.perf_counter() - t0 < max_wait:
-        time.sleep(10)
-        busy = busy_cores()
-    return time.perf_counter() - t0, busy
 
 
 def observed_order(h, q):
