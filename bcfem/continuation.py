@@ -188,7 +188,7 @@ class ArcLength:
         if not problem.solve():
             raise ContinuationError(
                 f"no converged start near the guess ({self.parameter} ~ {value:g}; "
-                f"SNES reason {problem.reason}); give a better initial guess")
+                f"{problem.failure}); give a better initial guess")
 
     def forward_sign(self, problem, observe, key: str, h: float = 1e-7) -> int:
         """+1 if the start's tangent increases the observable ``key``, else -1.
@@ -330,7 +330,7 @@ class ArcLength:
             if ds < self.params.ds_min:
                 problem.restore(base)
                 raise ContinuationError(
-                    f"step {step}: Newton failed (SNES reason {problem.reason}) even at "
+                    f"step {step}: Newton failed ({problem.failure}) even at "
                     f"ds < ds_min = {self.params.ds_min:g}; last converged point: "
                     + ", ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
         branch.newton_iterations += problem.iterations
@@ -340,7 +340,7 @@ class ArcLength:
         """Apply ``switch`` at the current state, converge the new model there, return its tangent."""
         switch.action()
         if not problem.solve():
-            raise ContinuationError(f"no converged state after '{switch.name}' (SNES reason {problem.reason})")
+            raise ContinuationError(f"no converged state after '{switch.name}' ({problem.failure})")
         progress(f"event: {switch.name}")
         return self._oriented(problem, self._tangent(problem), switch)
 

@@ -24,7 +24,9 @@ class Problem:
         terms: energy terms, each with ``energy(ctx)`` (a UFL form), or discrete terms
             (``is_discrete``, e.g. self-contact) that add their residual and tangent to the
             assembled system: ``bind(problem)``, ``add_residual(b)``, ``add_jacobian(A)``,
-            and optionally ``begin_solve()``, called before each Newton solve.
+            and optionally ``begin_solve()``, called before each Newton solve, and
+            ``inadmissible()``, a message if the converged state is unphysical (the solve
+            then fails), else None.
         bcs: Dirichlet conditions on the displacement.
         prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
         petsc_options: scene defaults, layered over bcfem's (the user's win).
@@ -72,6 +74,8 @@ class Problem:
         self.reason = 0
         #: how often cp's critical-point exit had to be finished by Newton steps
         self.critical_point_exits = 0
+        #: why the last converged state was rejected by a term (None: it was not)
+        self.inadmissible = None
         self._tangent_ksp = None
         for term in self.discrete:
             term.bind(self)
@@ -184,13 +188,26 @@ class Problem:
         # types need the norm recomputed
         if ok and self.iterations == 0 and getattr(self, "_bounds", ()) and self.snes.getType() != "vinewtonrsls":
             self._check_vi_start(x)
+        self.inadmissible = None
         if ok:
             x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
             assign(x, self.states)
-        else:
+            # an equilibrium can still be unphysical (a wall through itself): the terms that
+            # know their geometry may veto it, and the solve fails like any other
+            self.inadmissible = next((message for term in self.discrete if hasattr(term, "inadmissible")
+                                      for message in [term.inadmissible()] if message), None)
+            ok = self.inadmissible is None
+        if not ok:
             # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
             self.snes.getKSP().getPC().reset()
         return ok
+
+    @property
+    def failure(self) -> str:
+        """Why the last solve failed, for messages."""
+        if self.inadmissible:
+            return f"converged to an inadmissible state: {self.inadmissible}"
+        return f"SNES reason {self.reason}"
 
     def _snes_solve(self, x: PETSc.Vec) -> None:
         for term in self.discrete:

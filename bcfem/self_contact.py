@@ -21,6 +21,12 @@ node faces a segment is decided once per Newton solve, at its start: at the tip
 of a fold the node's mean normal turns edge-on, and a test at every iterate
 switched the pair on and off between iterates (a Newton 2-cycle).
 
+A node that one Newton step carries deeper than ``depth`` L behind a segment
+is out of the penalty's reach, and the wall would stay through itself (seen:
+a crater wall curled into a loop through its own side). So the term also
+vetoes a converged state whose boundary crosses itself that deep
+(``inadmissible``): the solve fails, and the load step is cut back.
+
 The pairs couple boundary nodes far apart in the mesh, so this term is not a
 UFL form: it adds its residual and exact Hessian (frozen pairs) to the
 assembled system through the problem's ``add_residual``/``add_jacobian``
@@ -211,6 +217,39 @@ class WallSelfContact:
         hit = ((g <= 0) & (g > -self.depth * length[S]) & (xi >= self.xi_min[S]) & (xi < self.xi_max[S]) & facing
                & ~self.excluded[P, S] & (self.weight[P] > 0))
         return P[hit], S[hit], g[hit]
+
+    def inadmissible(self) -> str | None:
+        """Where the boundary passes through itself beyond the penalty's reach, or None.
+
+        Two segments that cross while the node behind each lies less than ``depth`` L
+        behind the other are a contact the penalty holds (penetration O(L/c_k)). Deeper,
+        the pair has left the window the penalty acts in and nothing pushes it back: the
+        wall has gone through itself, and its crater volume counts the overlap negatively.
+        """
+        x = self._positions()
+        seg = self.segments
+        i, j = np.triu_indices(len(seg), k=1)
+        apart = (seg[i, 0] != seg[j, 0]) & (seg[i, 0] != seg[j, 1]) & (seg[i, 1] != seg[j, 0]) \
+            & (seg[i, 1] != seg[j, 1])
+        i, j = i[apart], j[apart]
+        p, q, a, b = x[seg[i, 0]], x[seg[i, 1]], x[seg[j, 0]], x[seg[j, 1]]
+        g_p, _ = gap(p, a, b)
+        g_q, _ = gap(q, a, b)
+        g_a, _ = gap(a, p, q)
+        g_b, _ = gap(b, p, q)
+        cross = (g_p * g_q < 0) & (g_a * g_b < 0)
+        if not cross.any():
+            return None
+        # the depth of the crossing: how far the endpoint behind each segment lies behind it
+        behind_j = -np.minimum(g_p, g_q) / np.linalg.norm(b - a, axis=1)
+        behind_i = -np.minimum(g_a, g_b) / np.linalg.norm(q - p, axis=1)
+        depth = np.where(cross, np.minimum(behind_i, behind_j), 0.0)
+        worst = int(np.argmax(depth))
+        if depth[worst] <= self.depth:
+            return None
+        r, z = 0.5 * (p[worst] + q[worst])
+        return (f"the boundary passes through itself near (r, z) = ({r:.4g}, {z:.4g}), "
+                f"{depth[worst]:.2f} segment lengths deep (the self-contact acts to {self.depth:g})")
 
     def _contributions(self, with_hessian: bool):
         x = self._positions()

@@ -121,7 +121,7 @@ class LoadPath:
                     self.set_load(current)
                     raise SteppingError(
                         f"{self.stage}: no converged state beyond {current:.5g} towards {target:.5g} "
-                        f"after {self.cuts} cut-backs and relaxation (SNES reason {self.problem.reason})", current)
+                        f"after {self.cuts} cut-backs and relaxation ({self.problem.failure})", current)
                 continue
             current = trial
             self._saved = self.problem.save()

@@ -49,7 +49,7 @@ class VolumeControl:
                 if abs(step) < self.min_step * max(1.0, abs(value)):
                     raise ContinuationError(
                         f"volume control: no converged state beyond volume {current:.6g} towards "
-                        f"{value:.6g} (last SNES reason {problem.reason})")
+                        f"{value:.6g} (last failure: {problem.failure})")
 
     def trace(self, problem, values, observe: Callable[[], dict]) -> list[dict]:
         rows = []

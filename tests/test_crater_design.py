@@ -112,6 +112,20 @@ def test_closed_liquid_crater_gives_no_suction(hemisphere_to_closure):
     assert "eq. 8.8" in summary["closure_note"]
 
 
+def test_a_soft_shallow_crater_stays_closed_and_says_so():
+    """alpha = 0.25, beta = 0.5 (Fig. 7.10, top left): pressed flat, the crater's wall needs
+    less than p_a to lift, so the vacuum holds it on the plate through the unloading. No
+    cavity, no suction area: F~ ~ 0, and the note says why."""
+    summary = cycle(preload=crater.CLOSURE, alpha=0.25, beta=0.5)
+    assert summary["V2_over_V0"] <= crater.CLOSURE_VOLUME
+    assert summary["F_tilde"] == pytest.approx(summary["A2_over_A0"], rel=1e-12) and summary["F_tilde"] < 1e-3
+    assert "stays closed after unloading" in summary["closure_note"]
+    # a stiffer one (beta = 10) springs open: a cavity, and no such note
+    stiff = cycle(preload=crater.CLOSURE, alpha=0.25, beta=10.0)
+    assert stiff["V2_over_V0"] > 0.1 and stiff["F_tilde"] > 0.9
+    assert "stays closed" not in stiff["closure_note"]
+
+
 def test_thin_stiff_lining_closes_with_a_trapped_pocket():
     """alpha' = 0.015, beta' = 30: the lining folds onto the plate and traps pockets, so V1
     never reaches CLOSURE_VOLUME V0. The crater counts as closed once the wall lies on the

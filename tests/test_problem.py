@@ -1,6 +1,6 @@
 """Problem: a failed Newton solve is retried with the line-search fallbacks, and the
 user's line search wins over them; a variational-inequality SNES that claims convergence
-without an equilibrium is caught.
+without an equilibrium is caught; a term can reject a converged state.
 
 The global unknown x solves arctan(x) = 0 (energy x arctan x - ln(1 + x^2)/2). Full
 Newton steps from |x0| > 1.39 overshoot further at every step; backtracking converges.
@@ -125,3 +125,41 @@ def test_the_saddle_is_solved_also_where_cp_stops_at_a_critical_point(line_searc
     assert ok and norm < 1e-10
     assert np.allclose(u, np.where(x < 0.5, 1.0, -1.0), atol=1e-12)
     assert exits == (1 if line_search == "cp" else 0)
+
+
+class Veto:
+    """A discrete term that adds nothing and rejects the converged state when told to
+    (as the self-contact does a wall through itself)."""
+
+    is_discrete = True
+    message = None
+
+    def bind(self, problem):
+        pass
+
+    def add_residual(self, b):
+        pass
+
+    def add_jacobian(self, A):
+        pass
+
+    def inadmissible(self):
+        return self.message
+
+
+@pytest.mark.parametrize("x0", [-0.5, 0.5])
+def test_a_term_can_reject_a_converged_state(x0):
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 4)
+    ctx = Context(fem.Function(fem.functionspace(msh, ("Lagrange", 1))))
+    veto = Veto()
+    with Problem(ctx, [Arctan(), veto], [], "bcfem_test_veto_") as problem:
+        problem.state("x").x.array[:] = x0
+        assert problem.solve()
+        assert problem.inadmissible is None and problem.failure.startswith("SNES reason")
+        # the same converged state, now vetoed: the solve fails, says why, and restores the start
+        veto.message = "x = 0 vetoed"
+        problem.state("x").x.array[:] = x0
+        assert not problem.solve()
+        assert problem.reason > 0  # SNES itself converged
+        assert problem.failure == "converged to an inadmissible state: x = 0 vetoed"
+        assert problem.state("x").x.array[0] == x0

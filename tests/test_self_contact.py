@@ -169,3 +169,37 @@ def test_contact_is_rank_count_invariant():
     assert here[4] == alone[4]  # the same pairs in contact
     for a, b in zip(here[:4], alone[:4]):
         assert a == pytest.approx(b, rel=1e-8, abs=1e-11)
+
+
+def boundary(points, depth=0.25):
+    """A self-contact term on the polyline ``points`` (one segment between consecutive
+    points, the solid on the right), without a mesh: for the geometric checks alone."""
+    term = WallSelfContact.__new__(WallSelfContact)
+    x = np.asarray(points, dtype=float)
+    term.segments = np.column_stack([np.arange(len(x) - 1), np.arange(1, len(x))])
+    term.depth = depth
+    term._positions = lambda: x
+    return term
+
+
+def test_a_wall_that_does_not_cross_itself_is_admissible():
+    # a hairpin whose two legs touch, the tip's node 1e-2 of a segment behind the other leg
+    # (the penetration a penalty contact leaves)
+    legs = [(0, 0), (1, 0), (2, 0), (2, 0.5), (1, -0.01), (0, 0.5)]
+    assert boundary(legs).inadmissible() is None
+    assert boundary([(0, 0), (1, 0), (2, 1), (3, 0)]).inadmissible() is None
+
+
+def test_a_wall_through_itself_is_inadmissible():
+    # a hairpin whose tip has passed through the other leg: each crossing's endpoints lie
+    # 0.41 and 1 segment lengths behind the other segment, out of the penalty's reach (a
+    # quarter of a segment), so nothing pushes them back
+    legs = [(0, 0), (1, 0), (2, 0), (2, 0.2), (1, -1), (0, 0.2)]
+    message = boundary(legs).inadmissible()
+    assert message is not None and "passes through itself" in message
+    assert "0.41 segment lengths deep" in message
+    # within a deeper window the same state is a contact the penalty holds
+    assert boundary(legs, depth=0.75).inadmissible() is None
+    # a loop: the wall comes back across itself (Fig. 7.10, alpha = 1, beta = 0.5 before the check)
+    loop = [(0, 0), (0, 1), (0, 2), (1, 2), (1, 1.5), (-0.5, 1.5)]
+    assert "passes through itself" in boundary(loop).inadmissible()

@@ -73,7 +73,7 @@ def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
     import bcfem.stepping as stepping
 
     class Wall(Quadratic):
-        reason = -5  # SNES: iteration limit
+        failure = "SNES reason -5"  # iteration limit
 
         def solve(self, fallbacks=True):  # no equilibrium beyond 0.25
             if self.load > 0.25 + 1e-12:
@@ -89,6 +89,7 @@ def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
     with pytest.raises(SteppingError) as failure:
         path.advance(0.0, 1.0, 0.1)
     assert failure.value.reached == pytest.approx(0.25)
+    assert "(SNES reason -5)" in str(failure.value)
     assert len(calls) == 1
 
 
@@ -97,7 +98,7 @@ def test_line_search_fallbacks_only_once_cutting_has_not_helped():
     problem's fallbacks are asked for only below first_step / 2**cuts_before_relax."""
 
     class Recording(Quadratic):
-        reason = -5
+        failure = "SNES reason -5"
 
         def __init__(self):
             super().__init__()

@@ -458,7 +458,7 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
         (final["p_over_pa"] if params.fluid == "air" else 1.0) * final["V"] / V1 - 1,
         "eps_closure": _first_closure(rows, geometry.crater_volume),
         "eps_m": preload if params.preload == CLOSURE and closed else None,
-        "closure_note": _closure_note(params, closed, preload, V1 / geometry.crater_volume),
+        "closure_note": _closure_note(params, closed, preload, V1 / geometry.crater_volume, final["V_over_V0"]),
         "stability": classify(events),
         "final_unstable_modes": final_unstable,
         "symmetry_breaking": symmetry_breaking(events) if params.waves else None,
@@ -476,7 +476,7 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
     return rows, summary
 
 
-def _closure_note(params, closed: bool, preload: float, V1_over_V0: float) -> str | None:
+def _closure_note(params, closed: bool, preload: float, V1_over_V0: float, V2_over_V0: float) -> str | None:
     """What closure means for this cycle's force (None: an open crater at a given preload)."""
     if not closed:
         return f"does not close up to eps = {preload:g}: the cycle runs from there" \
@@ -485,6 +485,10 @@ def _closure_note(params, closed: bool, preload: float, V1_over_V0: float) -> st
             if params.fluid == "liquid" else "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)")
     if V1_over_V0 > CLOSED:
         note += f"; a trapped remnant V1 = {V1_over_V0:.2g} V0 is neglected"
+    if params.fluid == "air" and V2_over_V0 <= CLOSURE_VOLUME:
+        # the vacuum holds the flattened wall on the plate (a soft or shallow crater)
+        note += (f"; it stays closed after unloading (V2 = {V2_over_V0:.2g} V0): no cavity, so A2 and "
+                 f"F are ~0 (the force to peel a closed crater off the plate is not this measure)")
     return note
 
 
