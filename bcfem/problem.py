@@ -76,6 +76,8 @@ class Problem:
         self.critical_point_exits = 0
         #: why the last converged state was rejected by a term (None: it was not)
         self.inadmissible = None
+        #: converged states rejected by a term so far, and the last reason
+        self.rejections, self.last_rejection = 0, None
         self._tangent_ksp = None
         for term in self.discrete:
             term.bind(self)
@@ -197,6 +199,9 @@ class Problem:
             self.inadmissible = next((message for term in self.discrete if hasattr(term, "inadmissible")
                                       for message in [term.inadmissible()] if message), None)
             ok = self.inadmissible is None
+            if not ok:
+                self.rejections += 1
+                self.last_rejection = self.inadmissible
         if not ok:
             # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
             self.snes.getKSP().getPC().reset()

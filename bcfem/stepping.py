@@ -89,6 +89,7 @@ class LoadPath:
         first = step
         smallest = step * 0.5**self.cuts
         relax_failed_from = None
+        rejections = getattr(self.problem, "rejections", 0)
         while (target - current) * direction > 0:
             trial = current + direction * min(step, abs(target - current))
             # the problem's line-search fallbacks only once cutting the step has not helped:
@@ -119,9 +120,12 @@ class LoadPath:
                 step *= 0.5
                 if step < smallest:
                     self.set_load(current)
+                    rejected = getattr(self.problem, "rejections", 0) - rejections
                     raise SteppingError(
                         f"{self.stage}: no converged state beyond {current:.5g} towards {target:.5g} "
-                        f"after {self.cuts} cut-backs and relaxation ({self.problem.failure})", current)
+                        f"after {self.cuts} cut-backs and relaxation ({self.problem.failure})"
+                        + (f"; {rejected} converged states on the way were rejected, the last as: "
+                           f"{self.problem.last_rejection}" if rejected else ""), current)
                 continue
             current = trial
             self._saved = self.problem.save()

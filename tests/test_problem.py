@@ -163,3 +163,4 @@ def test_a_term_can_reject_a_converged_state(x0):
         assert problem.reason > 0  # SNES itself converged
         assert problem.failure == "converged to an inadmissible state: x = 0 vetoed"
         assert problem.state("x").x.array[0] == x0
+        assert problem.rejections == 1 and problem.last_rejection == "x = 0 vetoed"

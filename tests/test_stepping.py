@@ -118,3 +118,30 @@ def test_line_search_fallbacks_only_once_cutting_has_not_helped():
         step = load - 0.1
         assert fallbacks == (step < first_step * 0.5**path.cuts_before_relax - 1e-15), (step, fallbacks)
     assert any(f for _, f in problem.asked) and not all(f for _, f in problem.asked)
+
+
+def test_the_error_says_when_converged_states_were_rejected():
+    """Beyond 0.25 Newton converges, but a term vetoes every state (a wall through itself):
+    the stepper cuts back, then fails, and says that and why rather than only the last
+    SNES reason."""
+
+    class Vetoed(Quadratic):
+        failure = "converged to an inadmissible state: through itself"
+        rejections, last_rejection = 0, None
+
+        def solve(self, fallbacks=True):
+            if self.load > 0.25 + 1e-12:
+                self.rejections += 1
+                self.last_rejection = "through itself"
+                return False
+            return super().solve()
+
+    problem = Vetoed()
+    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", check_stability=False)
+    path.start()
+    with pytest.raises(SteppingError) as failure:
+        path.advance(0.0, 1.0, 0.1)
+    assert failure.value.reached == pytest.approx(0.25)
+    assert f"; {problem.rejections} converged states on the way were rejected, the last as: through itself" \
+        in str(failure.value)
+    assert problem.rejections > 10  # every cut was tried
