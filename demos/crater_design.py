@@ -46,6 +46,7 @@
 # %%
 import argparse
 import json
+import textwrap
 import time
 from dataclasses import asdict, replace
 
@@ -176,6 +177,13 @@ def still_open(name, r) -> bool:
     return MAPS[name][0].preload == crater.CLOSURE and r["status"] == "ok" and r.get("eps_m", 0) is None
 
 
+def stays_closed(name, r) -> bool:
+    """An air crater closed on loading that the vacuum holds shut through the unloading: no
+    cavity, so F ~ 0 (a soft or shallow crater; the summary's closure_note says so)."""
+    return (MAPS[name][0].fluid == "air" and r["status"] == "ok" and r.get("eps_m") is not None
+            and r["V2_over_V0"] <= crater.CLOSURE_VOLUME)
+
+
 def optimum(r, *keys) -> dict:
     return {**{k: r[k] for k in keys}, "ends_on_saddle": on_saddle(r)}
 
@@ -187,7 +195,7 @@ def optimum(r, *keys) -> dict:
 # states the cycle observes.
 
 # %%
-shapes_7_10, types_7_12, shape_failures = {}, {}, []
+shapes_7_10, types_7_12, shape_failures, failed_shapes = {}, {}, [], {}
 
 
 def recorded(params, into, key):
@@ -196,6 +204,7 @@ def recorded(params, into, key):
         into[key] = crater_frames.record(params)
     except Exception as error:
         shape_failures.append({"case": str(key), "reason": f"{type(error).__name__}: {error}"})
+        failed_shapes[key] = error
         report(f"  FAILED shape cycle {key}: {error}")
 
 
@@ -245,6 +254,8 @@ ours["fig8_7cd_optimum"] = {name: optimum(r, "alpha", "preload", "F_hat")
                             for name in ("fig8_7c", "fig8_7d") if (r := best(ok(name), "F_hat"))}
 ours["points_open_at_the_closure_limit"] = {
     name: [{k: r[k] for k in MAPS[name][1]} for r in rows if still_open(name, r)] for name, rows in results.items()}
+ours["points_closed_after_unloading"] = {
+    name: [{k: r[k] for k in MAPS[name][1]} for r in rows if stays_closed(name, r)] for name, rows in results.items()}
 ours["points_ending_on_a_saddle"] = {name: [{k: r[k] for k in MAPS[name][1]} for r in rows if on_saddle(r)]
                                      for name, rows in results.items()}
 for key, value in ours.items():
@@ -397,15 +408,22 @@ if comm.rank == 0:
         fig.suptitle(title, fontsize=10)
         save(fig, filename)
 
-    if shapes_7_10:  # rows: beta, columns: alpha
-        alphas = sorted({a for a, _ in shapes_7_10})
-        betas = sorted({b for _, b in shapes_7_10})
+    tried_7_10 = list(shapes_7_10) + [key for key in failed_shapes if key in SHAPES_7_10 + QUICK_SHAPES["7_10"]]
+    if tried_7_10:  # rows: beta, columns: alpha
+        alphas = sorted({a for a, _ in tried_7_10})
+        betas = sorted({b for _, b in tried_7_10})
         fig, axes = plt.subplots(len(betas), len(alphas), figsize=(2.6 * len(alphas), 2.5 * len(betas)),
                                  squeeze=False)
-        for (alpha, beta), (summary, rec) in shapes_7_10.items():
+        for alpha, beta in tried_7_10:
             ax = axes[betas.index(beta), alphas.index(alpha)]
-            crater_frames.draw(ax, rec, rec.states[-1], 8.0,
-                               text=f"α={alpha:g}, β={beta:g}\nF~={summary['F_tilde']:.2f}")
+            if (alpha, beta) in shapes_7_10:
+                summary, rec = shapes_7_10[(alpha, beta)]
+                crater_frames.draw(ax, rec, rec.states[-1], 8.0,
+                                   text=f"α={alpha:g}, β={beta:g}\nF~={summary['F_tilde']:.2f}")
+            else:  # a failed cycle keeps its panel, with the reason
+                ax.text(0.5, 0.5, f"α={alpha:g}, β={beta:g}\nno result:\n"
+                        + textwrap.fill(str(failed_shapes[(alpha, beta)]), 34),
+                        transform=ax.transAxes, ha="center", va="center", fontsize=6, color="tab:red")
             ax.set_xticks([])
             ax.set_yticks([])
         fig.suptitle("Fig. 7.10: craters after complete unloading from full closure (dotted: at rest)", fontsize=10)
