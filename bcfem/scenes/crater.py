@@ -96,7 +96,8 @@ HELP = {
     "layer_stiffness": "beta' = mu_layer / mu of the reinforcement, > 0",
     "self_contact": "penalty of the crater wall's self-contact over mu/L (L: node spacing on the wall), "
                     "0 (off) or in [10, 1e4]; the penetration is about the contact pressure over "
-                    "self_contact mu, in units of L",
+                    "self_contact mu, in units of L; a state whose wall passes through itself deeper "
+                    "than L/4 is rejected (0 turns that check off too)",
     "max_snaps": "budget of snaps (steps passed by pseudo-time relaxation) per stage, 0 to 1000; a path "
                  "that snaps more often fails (a deepening crease); stiff linings need up to ~20",
     "waves": "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step "
