@@ -72,10 +72,6 @@ class Problem:
             else tuple(line_search_fallbacks)
         self.iterations = 0
         self.reason = 0
-        #: multiplies ``snes_max_it`` (a last resort of :class:`bcfem.stepping.LoadPath`),
-        #: unless the user set it
-        self.patience = 1
-        self._max_it = None if options.user_set(prefix, "snes_max_it") else self.snes.getTolerances()[3]
         #: how often cp's critical-point exit had to be finished by Newton steps
         self.critical_point_exits = 0
         #: why the last converged state was rejected by a term (None: it was not)
@@ -219,8 +215,6 @@ class Problem:
         return f"SNES reason {self.reason}"
 
     def _snes_solve(self, x: PETSc.Vec) -> None:
-        if self._max_it is not None:
-            self.snes.setTolerances(max_it=self._max_it * self.patience)
         for term in self.discrete:
             if hasattr(term, "begin_solve"):
                 term.begin_solve()

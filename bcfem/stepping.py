@@ -19,11 +19,6 @@ a target in adaptive steps:
   unstable non-axisymmetric wave numbers when a ``waves`` check is given
   (:class:`bcfem.modes.ModeAnalysis`).
 
-* when the step cannot be cut further, the cut-backs (and the relaxation) run once
-  more from the first step with ``patience`` times Newton's iteration limit: a solve
-  whose residual still falls, slowly, while contact pairs settle at a fold, gets to
-  finish (reported as a ``patience`` event). Paths that never got this far are unchanged.
-
 Nothing unconverged is ever accepted; when every retry fails the stepper
 raises with the last accepted value.
 """
@@ -60,7 +55,6 @@ class LoadPath:
         cuts: halvings before giving up; cuts_before_relax: before relaxing.
         max_snaps: relaxations allowed along the path (a crease that keeps deepening
             would otherwise snap again at every step).
-        patience: the factor on Newton's iteration limit of the last resort (1: none).
         check_stability: count unstable modes after each accepted step.
         waves: None, or a callable giving {n: unstable modes with n waves} at the current
             state (checked with the axisymmetric count).
@@ -76,7 +70,6 @@ class LoadPath:
     cuts_before_relax: int = 3
     check_stability: bool = True
     max_snaps: int = 6
-    patience: int = 4
     events: list = field(default_factory=list)
     waves: Callable[[], dict] | None = None
     unstable: int = 0
@@ -88,22 +81,14 @@ class LoadPath:
         return self.problem.solve(fallbacks=fallbacks)
 
     def advance(self, start: float, target: float, step: float,
-                on_accept: Callable[[float], bool | None] | None = None, patience: int | None = None) -> float:
+                on_accept: Callable[[float], bool | None] | None = None) -> float:
         """Step from ``start`` to ``target`` (either direction); ``on_accept(value)`` may
-        return True to stop early; ``patience`` overrides the path's. Returns the last
-        accepted value."""
-        patience = self.patience if patience is None else patience
-        step = abs(step)
-        try:
-            return self._advance(start, target, step, step * 0.5**self.cuts, on_accept, patience)
-        finally:
-            self.problem.patience = 1
-
-    def _advance(self, current, target, first, smallest, on_accept, patience) -> float:
-        direction = 1.0 if target >= current else -1.0
-        step = first
+        return True to stop early. Returns the last accepted value."""
+        direction = 1.0 if target >= start else -1.0
+        current, step = start, abs(step)
+        first = step
+        smallest = step * 0.5**self.cuts
         relax_failed_from = None
-        patient = False
         rejections = getattr(self.problem, "rejections", 0)
         while (target - current) * direction > 0:
             trial = current + direction * min(step, abs(target - current))
@@ -133,26 +118,15 @@ class LoadPath:
                     relax_failed_from = current
             if not ok:
                 step *= 0.5
-                if step < smallest and not patient and patience > 1:
-                    # the last resort: the same cut-backs with more Newton iterations
-                    patient, step, relax_failed_from = True, first, None
-                    self.problem.patience = patience
-                    continue
                 if step < smallest:
                     self.set_load(current)
                     rejected = getattr(self.problem, "rejections", 0) - rejections
-                    again = f", again with {patience}x the Newton iterations" if patient else ""
                     raise SteppingError(
                         f"{self.stage}: no converged state beyond {current:.5g} towards {target:.5g} "
-                        f"after {self.cuts} cut-backs and relaxation{again} ({self.problem.failure})"
+                        f"after {self.cuts} cut-backs and relaxation ({self.problem.failure})"
                         + (f"; {rejected} converged states on the way were rejected, the last as: "
                            f"{self.problem.last_rejection}" if rejected else ""), current)
                 continue
-            if patient:
-                patient = False
-                self.problem.patience = 1
-                self.events.append({"stage": self.stage, "eps": trial, "kind": "patience", "unstable": None,
-                                    "detail": f"passed with {patience}x the Newton iterations"})
             current = trial
             self._saved = self.problem.save()
             if not snapped:

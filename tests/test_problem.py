@@ -1,7 +1,6 @@
 """Problem: a failed Newton solve is retried with the line-search fallbacks, and the
 user's line search wins over them; a variational-inequality SNES that claims convergence
-without an equilibrium is caught; a term can reject a converged state; patience
-multiplies the iteration limit unless the user set it.
+without an equilibrium is caught; a term can reject a converged state.
 
 The global unknown x solves arctan(x) = 0 (energy x arctan x - ln(1 + x^2)/2). Full
 Newton steps from |x0| > 1.39 overshoot further at every step; backtracking converges.
@@ -55,31 +54,6 @@ def test_the_users_line_search_wins():
     finally:
         opts.delValue("bcfem_test_fallback_snes_linesearch_type")
     assert not ok and x == 2.0
-
-
-def solve_patiently(x0, patience, user_max_it=None):
-    """Newton on arctan from x0 = 1.2 needs 7 iterations; the scene allows 3."""
-    opts = PETSc.Options()
-    if user_max_it is not None:
-        opts["bcfem_test_patience_snes_max_it"] = user_max_it
-    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 4)
-    ctx = Context(fem.Function(fem.functionspace(msh, ("Lagrange", 1))))
-    try:
-        with Problem(ctx, [Arctan()], [], "bcfem_test_patience_", {"snes_max_it": 3}) as problem:
-            problem.state("x").x.array[:] = x0
-            problem.patience = patience
-            ok = problem.solve(fallbacks=False)
-            return ok, problem.iterations
-    finally:
-        if user_max_it is not None:
-            opts.delValue("bcfem_test_patience_snes_max_it")
-
-
-def test_patience_multiplies_the_iteration_limit_unless_the_user_set_it():
-    assert solve_patiently(1.2, 1) == (False, 3)
-    ok, iterations = solve_patiently(1.2, 4)
-    assert ok and 3 < iterations <= 12
-    assert solve_patiently(1.2, 4, user_max_it=3) == (False, 3)  # the user's limit wins
 
 
 class Obstacle:

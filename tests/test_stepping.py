@@ -90,47 +90,7 @@ def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
         path.advance(0.0, 1.0, 0.1)
     assert failure.value.reached == pytest.approx(0.25)
     assert "(SNES reason -5)" in str(failure.value)
-    assert "again with 4x the Newton iterations" in str(failure.value)
-    assert len(calls) == 2  # once per round of cut-backs: the last resort's round may relax again
-
-
-def test_the_last_resort_gives_newton_more_iterations_then_returns_to_the_default():
-    """Beyond 0.25 Newton needs more than its iteration limit (contact pairs settling at a
-    fold): when the step cannot be cut further, the cut-backs run again with 4x the limit;
-    the path passes, says so, and steps on with the default limit. A path that never gets
-    stuck never asks for it."""
-
-    class Slow(Quadratic):
-        failure = "SNES reason -5"
-        patience = 1
-
-        def __init__(self):
-            super().__init__()
-            self.asked = []
-
-        def solve(self, fallbacks=True):
-            self.asked.append((self.load, self.patience))
-            if self.load > 0.25 + 1e-12 and self.u[0] <= 0.25 + 1e-12 and self.patience < 4:
-                return False  # no way past 0.25 in 25 iterations
-            return super().solve()
-
-    problem = Slow()
-    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", check_stability=False)
-    path.start()
-    assert path.advance(0.0, 0.6, 0.1) == pytest.approx(0.6)
-    [event] = path.events
-    assert event["kind"] == "patience" and event["eps"] > 0.25 and "4x" in event["detail"]
-    patient = [load for load, patience in problem.asked if patience == 4]
-    assert patient == [pytest.approx(event["eps"])]  # the first patient try passed; then the default
-    assert problem.patience == 1 and problem.asked[-1] == (pytest.approx(0.6), 1)
-
-    problem = Slow()
-    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", check_stability=False)
-    path.start()
-    path.advance(0.0, 0.2, 0.1)
-    with pytest.raises(SteppingError) as failure:  # the bisection's way: no last resort
-        path.advance(0.2, 0.6, 0.1, patience=1)
-    assert all(patience == 1 for _, patience in problem.asked) and "again" not in str(failure.value)
+    assert len(calls) == 1
 
 
 def test_line_search_fallbacks_only_once_cutting_has_not_helped():

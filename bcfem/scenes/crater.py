@@ -554,10 +554,10 @@ def _load_to_closure(model, path, rows, params, bisections: int = 10) -> tuple[f
         low = path.rewind(open_state)
         mid = 0.5 * (low + closed_at)
         try:
-            path.advance(low, mid, mid - low, patience=1)
+            path.advance(low, mid, mid - low)
         except SteppingError:
             # the crater snaps shut inside the bracket and Newton cannot follow: eps_m is
-            # known to within the bracket [low, closed_at] (so no last resort is spent here)
+            # known to within the bracket [low, closed_at]
             break
         row = model.observe("load", mid)
         if closed(row):
