@@ -26,7 +26,9 @@ class Problem:
             assembled system: ``bind(problem)``, ``add_residual(b)``, ``add_jacobian(A)``,
             and optionally ``begin_solve()``, called before each Newton solve, and
             ``inadmissible()``, a message if the converged state is unphysical (the solve
-            then fails), else None.
+            then fails), else None, and ``step_bound(x, y)``, the largest fraction t <= 1 of
+            Newton's update x - y that keeps the state admissible (used once
+            :meth:`bound_steps` is called).
         bcs: Dirichlet conditions on the displacement.
         prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
         petsc_options: scene defaults, layered over bcfem's (the user's win).
@@ -78,6 +80,8 @@ class Problem:
         self.inadmissible = None
         #: converged states rejected by a term so far, and the last reason
         self.rejections, self.last_rejection = 0, None
+        #: Newton steps shortened by :meth:`bound_steps`
+        self.bounded_steps = 0
         self._tangent_ksp = None
         for term in self.discrete:
             term.bind(self)
@@ -101,6 +105,22 @@ class Problem:
 
         self.snes.setFunction(function, b)
         self.snes.setJacobian(tangent, A, P)
+
+    def bound_steps(self) -> None:
+        """Shorten every Newton step to what the discrete terms with a ``step_bound(x, y)``
+        allow (e.g. a wall that must not pass through itself), before the line search.
+        Off by default: it changes the path wherever a full step would have been taken."""
+        bounded = [t for t in self.discrete if hasattr(t, "step_bound")]
+        if not bounded:
+            return
+
+        def precheck(x, y):
+            t = min(term.step_bound(x, y) for term in bounded)
+            if t < 1.0:
+                self.bounded_steps += 1
+                y.scale(t)
+
+        self.snes.setLineSearchPreCheck(precheck)
 
     def global_indices(self, name: str) -> np.ndarray:
         """The global row of every local (unrolled, ghosts included) dof of state ``name``."""

@@ -25,7 +25,10 @@ A node that one Newton step carries deeper than ``depth`` L behind a segment
 is out of the penalty's reach, and the wall would stay through itself (seen:
 a crater wall curled into a loop through its own side). So the term also
 vetoes a converged state whose boundary crosses itself that deep
-(``inadmissible``): the solve fails, and the load step is cut back.
+(``inadmissible``): the solve fails, and the load step is cut back. A problem
+may instead keep every Newton step short enough that the wall stays admissible
+(``step_bound``, :meth:`bcfem.problem.Problem.bound_steps`); the crater scene
+does so when it traces a failed cycle again.
 
 The pairs couple boundary nodes far apart in the mesh, so this term is not a
 UFL form: it adds its residual and exact Hessian (frozen pairs) to the
@@ -178,14 +181,37 @@ class WallSelfContact:
         problem.allow_new_nonzeros()
 
     # -- evaluation -----------------------------------------------------------------------
-    def _positions(self) -> np.ndarray:
-        """Current positions of all boundary nodes, on every rank."""
-        disp = self.u.x.array.reshape(-1, 2)[self.owned_blocks]
-        gathered = self.comm.allgather((self.owned, disp))
+    def _positions(self, displacement: np.ndarray | None = None) -> np.ndarray:
+        """Positions of all boundary nodes, on every rank: the current ones, or those for
+        this rank's nodes' ``displacement`` ((owned, 2), gathered from every rank)."""
+        if displacement is None:
+            displacement = self.u.x.array.reshape(-1, 2)[self.owned_blocks]
         x = self.X.copy()
-        for nodes, d in gathered:
+        for nodes, d in self.comm.allgather((self.owned, displacement)):
             x[nodes] += d
         return x
+
+    def step_bound(self, x: PETSc.Vec, y: PETSc.Vec, halvings: int = 10) -> float:
+        """The largest t in 1, 1/2, ..., 2^-halvings for which Newton's update x - t y keeps
+        the boundary admissible (1 if x itself is not: the veto then decides).
+
+        A full step that carries a node deeper than ``depth`` L behind a segment leaves the
+        penalty's window, and Newton can converge with the wall through itself; a shorter
+        step keeps the pair in the window, where the penalty pushes it back.
+        """
+        start, end = x.getOwnershipRange()
+        local = self.rows[self.owned] - start
+        assert local.size == 0 or (local.min() >= 0 and local.max() < end - start)
+        here = self._positions(x.array[local])
+        if self.inadmissible(here) is not None:
+            return 1.0
+        step = self._positions(y.array[local]) - self.X
+        t = 1.0
+        for _ in range(halvings):
+            if self.inadmissible(here - t * step) is None:
+                return t
+            t *= 0.5
+        return t
 
     def _facing(self, x: np.ndarray) -> np.ndarray:
         """(owned nodes x segments): the node's mean normal opposes the segment's."""
@@ -218,15 +244,16 @@ class WallSelfContact:
                & ~self.excluded[P, S] & (self.weight[P] > 0))
         return P[hit], S[hit], g[hit]
 
-    def inadmissible(self) -> str | None:
-        """Where the boundary passes through itself beyond the penalty's reach, or None.
+    def inadmissible(self, x: np.ndarray | None = None) -> str | None:
+        """Where the boundary (at the current positions, or at ``x``) passes through itself
+        beyond the penalty's reach, or None.
 
         Two segments that cross while the node behind each lies less than ``depth`` L
         behind the other are a contact the penalty holds (penetration O(L/c_k)). Deeper,
         the pair has left the window the penalty acts in and nothing pushes it back: the
         wall has gone through itself, and its crater volume counts the overlap negatively.
         """
-        x = self._positions()
+        x = self._positions() if x is None else x
         seg = self.segments
         i, j = np.triu_indices(len(seg), k=1)
         apart = (seg[i, 0] != seg[j, 0]) & (seg[i, 0] != seg[j, 1]) & (seg[i, 1] != seg[j, 0]) \

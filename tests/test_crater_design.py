@@ -161,3 +161,34 @@ def test_stiffness_contrasts_of_1e3_and_1e4_converge_to_a_rigid_lining():
     assert 8 < runs[0]["F_tilde"] / runs[1]["F_tilde"] < 12.5, [r["F_tilde"] for r in runs]
     for r in runs:
         assert abs(r["fluid_law_residual"]) < 1e-8 and r["stability"] == "stable", r
+
+
+def test_a_failed_cycle_is_traced_again_with_bounded_steps(monkeypatch):
+    """The control flow of the retrace (the real failures it saves take 5-20 min each:
+    docs/craters.md): a cycle that gets through is traced once, with full Newton steps;
+    one that fails is traced again, carefully, and says why; a second failure names both."""
+    calls = []
+
+    def cycle(params, comm, model_class, t0, careful):
+        calls.append(careful)
+        if careful in fail:
+            raise crater.SteppingError(f"{'careful' if careful else 'first'} failed", 0.5)
+        return [], {"F_tilde": 1.0, "retraced": None}
+
+    monkeypatch.setattr(crater, "_cycle", cycle)
+    params = crater.Params()
+    fail = ()
+    assert crater.solve(params, MPI.COMM_SELF) == ([], {"F_tilde": 1.0, "retraced": None}) and calls == [False]
+    calls.clear()
+    fail = (False,)
+    _, summary = crater.solve(params, MPI.COMM_SELF)
+    assert calls == [False, True] and summary["retraced"] == "first failed"
+    calls.clear()
+    fail = (False, True)
+    with pytest.raises(crater.SteppingError, match="careful failed .*the first trace: first failed"):
+        crater.solve(params, MPI.COMM_SELF)
+    # without self-contact there is no step bound to trace with: the first failure stands
+    calls.clear()
+    with pytest.raises(crater.SteppingError, match="^first failed$"):
+        crater.solve(crater.Params(self_contact=0), MPI.COMM_SELF)
+    assert calls == [False]

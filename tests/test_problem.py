@@ -127,12 +127,10 @@ def test_the_saddle_is_solved_also_where_cp_stops_at_a_critical_point(line_searc
     assert exits == (1 if line_search == "cp" else 0)
 
 
-class Veto:
-    """A discrete term that adds nothing and rejects the converged state when told to
-    (as the self-contact does a wall through itself)."""
+class Silent:
+    """A discrete term that adds nothing to the residual and the tangent."""
 
     is_discrete = True
-    message = None
 
     def bind(self, problem):
         pass
@@ -142,6 +140,13 @@ class Veto:
 
     def add_jacobian(self, A):
         pass
+
+
+class Veto(Silent):
+    """Rejects the converged state when told to (as the self-contact does a wall through
+    itself)."""
+
+    message = None
 
     def inadmissible(self):
         return self.message
@@ -164,3 +169,30 @@ def test_a_term_can_reject_a_converged_state(x0):
         assert problem.failure == "converged to an inadmissible state: x = 0 vetoed"
         assert problem.state("x").x.array[0] == x0
         assert problem.rejections == 1 and problem.last_rejection == "x = 0 vetoed"
+
+
+class Trust(Silent):
+    """Allows only steps that keep x in [-1, 2] (as the self-contact allows only steps that
+    keep the wall admissible)."""
+
+    def step_bound(self, x, y):
+        t = 1.0
+        while t > 1e-3 and np.any(np.abs(x.array - t * y.array - 0.5) > 1.5):
+            t *= 0.5
+        return t
+
+
+@pytest.mark.parametrize("bounded", [False, True])
+def test_a_term_can_bound_the_newton_step(bounded):
+    # full Newton on arctan from 2 overshoots ever further (the test above); shortened to
+    # stay in [-1, 2], the first step lands near 0 and Newton converges
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 4)
+    ctx = Context(fem.Function(fem.functionspace(msh, ("Lagrange", 1))))
+    with Problem(ctx, [Arctan(), Trust()], [], "bcfem_test_step_bound_", {"snes_max_it": 40}) as problem:
+        if bounded:
+            problem.bound_steps()
+        problem.state("x").x.array[:] = 2.0
+        assert problem.solve() == bounded
+        assert (problem.bounded_steps > 0) == bounded
+        if bounded:
+            assert abs(problem.state("x").x.array[0]) < 1e-10

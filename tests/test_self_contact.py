@@ -203,3 +203,44 @@ def test_a_wall_through_itself_is_inadmissible():
     # a loop: the wall comes back across itself (Fig. 7.10, alpha = 1, beta = 0.5 before the check)
     loop = [(0, 0), (0, 1), (0, 2), (1, 2), (1, 1.5), (-0.5, 1.5)]
     assert "passes through itself" in boundary(loop).inadmissible()
+
+
+def spiked(comm):
+    """(contact term, problem's state vector x = 0, step y) on the stacked blocks: the step
+    x - y pushes one node of the slot's upper face 0.2 down, through the lower face."""
+    data = stacked_blocks(comm)
+    V = fem.functionspace(data.mesh, ("Lagrange", 2, (2,)))
+    u = fem.Function(V, name="displacement")
+    ctx = Context(u, AxisymmetricSolid(u, quadrature_degree=4, facet_tags=data.facet_tags))
+    contact = WallSelfContact(data.facet_tags, CONTACT, modulus=1.0, penalty=PENALTY)
+    problem = Problem(ctx, [SolidStrain(NearlyIncompressibleNeoHookean(mu=1.0, kappa=KAPPA)), contact], [],
+                      "bcfem_test_step_bound_")
+    X = V.tabulate_dof_coordinates()
+    face = np.flatnonzero(np.isclose(X[:, 1], LOWER + SLOT))
+    nearest = min(comm.allgather(min(((abs(X[k, 0] - 0.5), tuple(X[k, :2])) for k in face), default=(9.0, ()))))
+    spike = fem.Function(V)
+    node = np.flatnonzero(np.all(np.isclose(X[:, :2], nearest[1]), axis=1))
+    spike.x.array.reshape(-1, 2)[node, 1] = 0.2  # y = -(the displacement of x - y)
+    return problem, contact, problem.vector_from([u]), problem.vector_from([spike])
+
+
+def bounded_step(comm):
+    problem, contact, x, y = spiked(comm)
+    with problem:
+        t = contact.step_bound(x, y)
+        start, _ = x.getOwnershipRange()
+        local = contact.rows[contact.owned] - start
+        here, step = contact._positions(x.array[local]), contact._positions(y.array[local]) - contact.X
+        admissible = [contact.inadmissible(here - s * step) is None for s in (t, 2 * t)]
+        x.destroy()
+        y.destroy()
+    return t, admissible
+
+
+@pytest.mark.mpi
+def test_the_step_is_bounded_to_keep_the_wall_admissible():
+    t, (at_t, at_twice) = bounded_step(MPI.COMM_WORLD)
+    # the full step goes through the wall; the bound is the longest halving that does not
+    assert t < 1 and at_t and not at_twice
+    # the same on every rank count: every rank sees the whole boundary and the whole step
+    assert t == bounded_step(MPI.COMM_SELF)[0]

@@ -46,6 +46,7 @@ from bcfem.context import Context
 from bcfem.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.fluids import FLUIDS, Vacuum
 from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, LAYER, SPECIMEN, TOP, CraterGeometry, create_mesh
+from bcfem.log import progress
 from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.modes import ModeAnalysis
 from bcfem.mpi import PointEvaluator, global_sum, real_value
@@ -121,6 +122,11 @@ TRAPPED_VOLUME = 1e-2
 #: there, and where it stalls, a line search along Newton's direction on the energy may (the
 #: (0.06, 3) lining's cycle was the self-contact's facing test instead, see self_contact.py)
 LINE_SEARCH_FALLBACKS = ("bt", "cp")
+#: the retrace of a failed cycle: Newton steps bounded so that the wall stays admissible
+#: (a full step through the wall leaves the self-contact's window, and Newton converged with
+#: the wall through itself: rejected at (0.06, 100) of Fig. 7.11b) and more iterations (the
+#: folded lining of (0.03, 300) stalled with 25 and got through with 80)
+CAREFUL = {"snes_max_it": 80}
 COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
 
 
@@ -312,13 +318,34 @@ class Crater:
 def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[list[dict], dict]:
     """Run both stages; returns (rows, summary).
 
+    A cycle that fails is traced again from the start with a more careful Newton
+    (:data:`CAREFUL`), which is slower and takes other paths where full steps did not
+    fail; a cycle that gets through the first time is never changed by it. The summary's
+    ``retraced`` then says why the first trace failed.
+
     Args:
         model_class: ``Crater`` or a subclass (e.g. one that records the deformed states,
             :mod:`bcfem.scenes.crater_frames`); the cycle itself is the same.
     """
+    t0 = time.perf_counter()
+    try:
+        return _cycle(params, comm, model_class, t0, careful=False)
+    except SteppingError as failure:
+        if params.self_contact == 0:
+            raise
+        progress(f"{failure}: tracing the cycle again with bounded Newton steps")
+        try:
+            rows, summary = _cycle(params, comm, model_class, t0, careful=True)
+        except SteppingError as again:
+            raise SteppingError(f"{again} (traced again with bounded Newton steps; the first trace: "
+                                f"{failure})", again.reached) from None
+        summary["retraced"] = str(failure)
+        return rows, summary
+
+
+def _cycle(params: Params, comm, model_class: type[Crater], t0: float, careful: bool) -> tuple[list[dict], dict]:
     from scipy.optimize import brentq
 
-    t0 = time.perf_counter()
     model = model_class(params, comm)
     H = params.specimen_height
     multipliers = ["solid_pressure", "fluid_pressure"]
@@ -328,10 +355,12 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     set_platen = model.set_platen
     # stage 1: vent open
     rows = [model.observe("load", 0.0)]
-    vi = {"snes_type": "vinewtonrsls"}
+    vi = {"snes_type": "vinewtonrsls", **(CAREFUL if careful else {})}
     loading = Problem(model.ctx, model.terms(), model.bcs, "bcfem_crater_load_", vi, energy_scale=model.energy_scale,
                       line_search_fallbacks=LINE_SEARCH_FALLBACKS)
     model.contact_bounds(loading)
+    if careful:
+        loading.bound_steps()
     path = LoadPath(loading, set_platen, "load", model.viscosity, relax_stiffness, multipliers, events=events,
                     max_snaps=params.max_snaps, waves=model.wave_check(model.terms(), "bcfem_crater_load_modes_"))
     path.start()
@@ -360,6 +389,8 @@ def solve(params: Params, comm, model_class: type[Crater] = Crater) -> tuple[lis
     unloading = Problem(model.ctx, terms, model.bcs, "bcfem_crater_unload_", vi, energy_scale=model.energy_scale,
                         line_search_fallbacks=LINE_SEARCH_FALLBACKS)
     model.contact_bounds(unloading)
+    if careful:
+        unloading.bound_steps()
     # self-contact is left out: its forces pair up on the wall, so their work in w is the
     # contact force times gap / H, negligible
     lagrangian = unloading.lagrangian
@@ -462,6 +493,7 @@ def _finish(params, model, rows, final, V1, closed, preload, zero_force, events,
         "closure_note": _closure_note(params, closed, preload, V1 / geometry.crater_volume, final["V_over_V0"]),
         "stability": classify(events),
         "final_unstable_modes": final_unstable,
+        "retraced": None,  # why the first trace failed, if this is the second (see solve)
         "symmetry_breaking": symmetry_breaking(events) if params.waves else None,
         "stability_waves": classify([e for e in events if e.get("breaks_symmetry")]) if params.waves else None,
         "instabilities": events,
@@ -616,6 +648,7 @@ def sweep_point(params: Params, comm) -> dict:
     point = {k: summary[k] for k in ("F_tilde", "F_hat", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
                                      "eps_at_zero_force", "preload", "eps_m", "stability", "final_unstable_modes")}
     point["stability_code"] = STABILITY.index(summary["stability"])  # a number for contour maps
+    point["retraced"] = summary["retraced"] is not None
     if params.waves:
         point["stability_waves"] = summary["stability_waves"]
         point["symmetry_code"] = STABILITY.index(summary["stability_waves"])
