@@ -256,6 +256,8 @@ ours["points_open_at_the_closure_limit"] = {
     name: [{k: r[k] for k in MAPS[name][1]} for r in rows if still_open(name, r)] for name, rows in results.items()}
 ours["points_closed_after_unloading"] = {
     name: [{k: r[k] for k in MAPS[name][1]} for r in rows if stays_closed(name, r)] for name, rows in results.items()}
+ours["points_traced_twice"] = {name: [{k: r[k] for k in MAPS[name][1]} for r in rows if r.get("retraced")]
+                               for name, rows in results.items()}
 ours["points_ending_on_a_saddle"] = {name: [{k: r[k] for k in MAPS[name][1]} for r in rows if on_saddle(r)]
                                      for name, rows in results.items()}
 for key, value in ours.items():
@@ -271,7 +273,7 @@ for key, value in ours.items():
 # %%
 COLUMNS = ["map", "fluid", "alpha", "beta", "layer_thickness", "layer_stiffness", "preload", "status", "F_tilde",
            "F_hat", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0", "eps_at_zero_force", "stability",
-           "stability_waves", "reason"]
+           "stability_waves", "retraced", "reason"]
 table = []
 for name, rows in results.items():
     base = asdict(MAPS[name][0])
