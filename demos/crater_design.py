@@ -191,34 +191,35 @@ def optimum(r, *keys) -> dict:
 # %% [markdown]
 # ## Deformed shapes (Figs. 7.10, 7.12)
 #
-# Solved again on rank 0 alone with `crater_frames.Recorder`, which keeps the
-# states the cycle observes.
+# Solved again with `crater_frames.Recorder`, which keeps the states the cycle
+# observes: each rank records every comm.size-th cycle alone, and rank 0 draws
+# them all.
 
 # %%
 shapes_7_10, types_7_12, shape_failures, failed_shapes = {}, {}, [], {}
 
 
-def recorded(params, into, key):
-    """One recorded cycle; a failure is reported and listed, not fatal."""
-    try:
-        into[key] = crater_frames.record(params)
-    except Exception as error:
-        shape_failures.append({"case": str(key), "reason": f"{type(error).__name__}: {error}"})
-        failed_shapes[key] = error
-        report(f"  FAILED shape cycle {key}: {error}")
-
-
+cycles = [("7_10", (alpha, beta), replace(AIR, alpha=alpha, beta=beta))
+          for alpha, beta in (SHAPES_7_10 if full else QUICK_SHAPES["7_10"])]
+cycles += [("7_12", tag, replace(AIR, alpha=1.0, beta=1.0, layer_thickness=thickness, layer_stiffness=stiffness))
+           for tag, (thickness, stiffness) in (TYPES_7_12 if full else QUICK_SHAPES["7_12"]).items()]
 t0 = time.perf_counter()
-if comm.rank == 0:
-    for alpha, beta in (SHAPES_7_10 if full else QUICK_SHAPES["7_10"]):
-        recorded(replace(AIR, alpha=alpha, beta=beta), shapes_7_10, (alpha, beta))
-    for tag, (thickness, stiffness) in (TYPES_7_12 if full else QUICK_SHAPES["7_12"]).items():
-        recorded(replace(AIR, alpha=1.0, beta=1.0, layer_thickness=thickness, layer_stiffness=stiffness),
-                 types_7_12, tag)
-shape_failures = comm.bcast(shape_failures, root=0)
+mine = []
+for index in range(comm.rank, len(cycles), comm.size):
+    figure, key, params = cycles[index]
+    try:  # a failure is reported and listed, not fatal
+        mine.append((index, figure, key, crater_frames.record(params), None))
+    except Exception as error:
+        mine.append((index, figure, key, None, f"{type(error).__name__}: {error}"))
+for _, figure, key, result, failure in sorted(entry for part in comm.allgather(mine) for entry in part):
+    if failure is None:
+        (shapes_7_10 if figure == "7_10" else types_7_12)[key] = result
+    else:
+        shape_failures.append({"case": str(key), "reason": failure})
+        failed_shapes[key] = failure
+        report(f"  FAILED shape cycle {key}: {failure}")
 timing["shapes"] = {"cycles": len(shapes_7_10) + len(types_7_12), "wall_time_s": time.perf_counter() - t0,
-                    "ranks": 1}
-comm.barrier()
+                    "ranks": comm.size}
 
 # %% [markdown]
 # ## Compare with the dissertation

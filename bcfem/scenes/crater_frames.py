@@ -3,9 +3,13 @@ and a function that draws one state (dissertation Figs. 7.5b, 7.10, 7.12).
 
 ``record(params)`` solves one cycle on this rank alone (``MPI.COMM_SELF``); the cycle
 is the scene's own (:func:`bcfem.scenes.crater.solve` with ``model_class=Recorder``).
+It returns plain arrays (:class:`Frames`), so that ranks can record cycles side by side
+and send them to the rank that draws.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 from mpi4py import MPI
@@ -46,8 +50,20 @@ class Recorder(crater.Crater):
         return row
 
 
-def record(params: crater.Params) -> tuple[dict, Recorder]:
-    """One cycle on this rank alone; returns (summary, recorder with its states)."""
+@dataclass
+class Frames:
+    """What :func:`draw` needs of a recorded cycle (the mesh's vertices and triangles, the
+    layer's cells, the wall at rest, the states), without the mesh: it can be pickled."""
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    in_layer: np.ndarray
+    wall_X: np.ndarray
+    states: list[dict]
+
+
+def record(params: crater.Params) -> tuple[dict, Frames]:
+    """One cycle on this rank alone; returns (summary, its frames)."""
     made = []
 
     def model(p, comm):
@@ -55,7 +71,8 @@ def record(params: crater.Params) -> tuple[dict, Recorder]:
         return made[-1]
 
     _, summary = crater.solve(params, MPI.COMM_SELF, model_class=model)
-    return summary, made[-1]
+    rec = made[-1]  # a retraced cycle's second model
+    return summary, Frames(rec.vertices, rec.triangles, rec.in_layer, rec.wall_X, rec.states)
 
 
 def nearest(states: list[dict], stage: str, eps: float) -> dict:
@@ -63,7 +80,7 @@ def nearest(states: list[dict], stage: str, eps: float) -> dict:
     return min((s for s in states if s["stage"] == stage), key=lambda s: abs(s["eps"] - eps))
 
 
-def draw(ax, recorder: Recorder, state: dict, extent: float, text: str = "") -> None:
+def draw(ax, recorder: Frames, state: dict, extent: float, text: str = "") -> None:
     """The deformed specimen near the crater (grey; a layer red), the crater wall (blue),
     the wall at rest (dotted) and the plate (black), in a square of side ``extent`` [mm]."""
     import matplotlib.tri as mtri
