@@ -35,7 +35,8 @@
 # Each map is one `bcfem sweep crater` command (listed in `summary.json` and in
 # `docs/craters.md`); its points are kept under `--out/sweeps/<map>`, so the
 # command line and this demo share them, and a rerun solves only what is
-# missing. The default grid is a few points of each kind (CI, serial and
+# missing. The recorded shape cycles are kept under `--out/sweeps/shapes` the same
+# way. The default grid is a few points of each kind (CI, serial and
 # `mpirun -n 2`); `--full` solves the published maps (about 200 cycles).
 #
 # Fig. 7.11b's classes are the dissertation's wrinkles, i.e. symmetry breaking: its map
@@ -46,6 +47,8 @@
 # %%
 import argparse
 import json
+import os
+import pickle
 import textwrap
 import time
 from dataclasses import asdict, replace
@@ -192,32 +195,48 @@ def optimum(r, *keys) -> dict:
 # ## Deformed shapes (Figs. 7.10, 7.12)
 #
 # Solved again with `crater_frames.Recorder`, which keeps the states the cycle
-# observes: each rank records every comm.size-th cycle alone, and rank 0 draws
-# them all.
+# observes. Each rank takes the next cycle no rank has taken (a claim file), records
+# it alone and keeps it in the cache; rank 0 draws them all.
 
 # %%
 shapes_7_10, types_7_12, shape_failures, failed_shapes = {}, {}, [], {}
-
-
 cycles = [("7_10", (alpha, beta), replace(AIR, alpha=alpha, beta=beta))
           for alpha, beta in (SHAPES_7_10 if full else QUICK_SHAPES["7_10"])]
 cycles += [("7_12", tag, replace(AIR, alpha=1.0, beta=1.0, layer_thickness=thickness, layer_stiffness=stiffness))
            for tag, (thickness, stiffness) in (TYPES_7_12 if full else QUICK_SHAPES["7_12"]).items()]
+shape_cache = args.out / "sweeps" / "shapes"
+cached = [shape_cache / f"cycle{sweep.point_key({}, params)}.pkl" for _, _, params in cycles]
+if comm.rank == 0:
+    shape_cache.mkdir(parents=True, exist_ok=True)
+    for stale in shape_cache.glob("*.claim"):  # left by a run that was stopped
+        stale.unlink()
+comm.barrier()
 t0 = time.perf_counter()
-mine = []
-for index in range(comm.rank, len(cycles), comm.size):
-    figure, key, params = cycles[index]
-    try:  # a failure is reported and listed, not fatal
-        mine.append((index, figure, key, crater_frames.record(params), None))
-    except Exception as error:
-        mine.append((index, figure, key, None, f"{type(error).__name__}: {error}"))
-for _, figure, key, result, failure in sorted(entry for part in comm.allgather(mine) for entry in part):
-    if failure is None:
-        (shapes_7_10 if figure == "7_10" else types_7_12)[key] = result
+failures = {}
+for index, (_, key, params) in enumerate(cycles):
+    path = cached[index]
+    try:
+        os.close(os.open(path.with_suffix(".claim"), os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+    except FileExistsError:
+        continue  # another rank has it
+    if not path.exists():
+        try:  # a failure is reported and listed, not fatal
+            partial = path.with_suffix(".tmp")  # renamed once complete
+            partial.write_bytes(pickle.dumps(crater_frames.record(params)))
+            partial.replace(path)
+        except Exception as error:
+            failures[index] = f"{type(error).__name__}: {error}"
+failures = {i: f for part in comm.allgather(failures) for i, f in part.items()}
+if comm.rank == 0:
+    for claim in shape_cache.glob("*.claim"):
+        claim.unlink()
+for index, (figure, key, _) in enumerate(cycles):
+    if index in failures:
+        shape_failures.append({"case": str(key), "reason": failures[index]})
+        failed_shapes[key] = failures[index]
+        report(f"  FAILED shape cycle {key}: {failures[index]}")
     else:
-        shape_failures.append({"case": str(key), "reason": failure})
-        failed_shapes[key] = failure
-        report(f"  FAILED shape cycle {key}: {failure}")
+        (shapes_7_10 if figure == "7_10" else types_7_12)[key] = pickle.loads(cached[index].read_bytes())
 timing["shapes"] = {"cycles": len(shapes_7_10) + len(types_7_12), "wall_time_s": time.perf_counter() - t0,
                     "ranks": comm.size}
 
