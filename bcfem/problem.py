@@ -11,6 +11,7 @@ import numpy as np
 import ufl
 from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assign
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from bcfem import options
@@ -115,7 +116,8 @@ class Problem:
             return
 
         def precheck(x, y):
-            t = min(term.step_bound(x, y) for term in bounded)
+            # one t on every rank, whatever part of x and y each term sees
+            t = self.comm.allreduce(min(term.step_bound(x, y) for term in bounded), op=MPI.MIN)
             if t < 1.0:
                 self.bounded_steps += 1
                 y.scale(t)
