@@ -28,7 +28,9 @@ from the tangent's inertia after every step; a step Newton cannot reach is
 taken by pseudo-time relaxation (a snap), and both are reported. With
 ``waves`` = N the non-axisymmetric Fourier modes n = 1..N are checked as well
 (:mod:`bcfem.modes`): the wave numbers that lose stability, and where, are
-reported as ``waves`` events (symmetry breaking).
+reported as ``waves`` events (symmetry breaking). A cycle that fails is traced
+once more from the start with Newton steps bounded to keep the wall admissible and
+a larger iteration limit (``retraced`` in the summary says why the first failed).
 """
 
 from __future__ import annotations
