@@ -192,8 +192,9 @@ class WallSelfContact:
         return x
 
     def step_bound(self, x: PETSc.Vec, y: PETSc.Vec, halvings: int = 10) -> float:
-        """The largest t in 1, 1/2, ..., 2^-halvings for which Newton's update x - t y keeps
-        the boundary admissible (1 if x itself is not: the veto then decides).
+        """The largest t in 1, 1/2, ..., 2^-(halvings-1) for which Newton's update x - t y
+        keeps the boundary admissible, else 2^-halvings (1 if x itself is not admissible:
+        the veto then decides).
 
         A full step that carries a node deeper than ``depth`` L behind a segment leaves the
         penalty's window, and Newton can converge with the wall through itself; a shorter
