@@ -145,12 +145,12 @@ def markdown(rows, refs, timings, wall, load) -> str:
          "full; `timed` says how many points carry a time: points solved before this was recorded have none); "
          "`wall on 2 ranks` = core-s / 2, the wall time of one run with the points evenly shared "
          "(the slowest point bounds it from below). `last run`: the `timing.json` of the run that finished "
-         "the map (points solved / reused, wall time).", "",
+         "the map (points solved / reused, ranks, wall time).", "",
          "| map | points | failed | timed | core-s | core-s per point | slowest point [s] | wall on 2 ranks [min] "
-         "| last run: solved / reused, wall [s] |", "|---|---|---|---|---|---|---|---|---|"]
+         "| last run: solved / reused, ranks, wall [s] |", "|---|---|---|---|---|---|---|---|---|"]
     for t in timings:
         last = t["last_run"]
-        run = "-" if last["wall_time_s"] is None else f"{last['solved']} / {last['reused']}, {last['wall_time_s']:.0f}"
+        run = "-" if last["wall_time_s"] is None else f"{last['solved']} / {last['reused']}, {last['ranks']}, {last['wall_time_s']:.0f}"
         timed = [f"{t['core_seconds']:.0f}", f"{t['core_seconds'] / t['timed']:.1f}", f"{t['slowest_point_s']:.0f}",
                  f"{t['core_seconds'] / 120:.1f}" + ("" if t["timed"] == t["points"] else " (timed points)")] \
             if t["timed"] else ["-"] * 4
