@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=${VENV:-.venv}
 if [ -x "$VENV/bin/python" ] && "$VENV/bin/python" -c 'import sys; sys.exit(sys.version_info < (3, 12))' \
-   && [ "$VENV/.installed" -nt pyproject.toml ]; then
+   && [ "$VENV/.installed" -nt pyproject.toml ] && [ "$VENV/.installed" -nt tools/constraints.txt ]; then
   exit 0
 fi
 find_python() {
@@ -26,6 +26,7 @@ fi
 echo "bootstrap: creating $VENV with $("$PY" --version)"
 "$PY" -m venv "$VENV"
 "$VENV/bin/python" -m pip install -q --upgrade pip
-"$VENV/bin/python" -m pip install -q -e ".[all]"
+# pinned: map points past instabilities move with round-off (tools/constraints.txt)
+"$VENV/bin/python" -m pip install -q -c tools/constraints.txt -e ".[all]"
 touch "$VENV/.installed"
 echo "bootstrap: installed bcfem into $VENV"
