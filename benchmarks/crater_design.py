@@ -10,6 +10,10 @@
    `timing.json` that `bcfem sweep` writes next to each map's `sweep.csv`
    (`docs/figures/crater_design/sweeps/<map>/`, made by `make report` or by the
    commands in docs/craters.md).
+3. `--two-ranks MAP ...` (or `all`): solves each named map again from nothing with its
+   command on `mpirun -n 2` in a scratch directory, times it, and checks that every point
+   equals the kept one (the sweep is rank-count invariant); recorded in the map's
+   `timing_2ranks.json` and shown in the map table.
 
 Run from the repository root: `.venv/bin/python benchmarks/crater_design.py` (part of
 `make bench`).
@@ -23,6 +27,7 @@ import json
 import math
 import sys
 import time
+from pathlib import Path
 
 from common import ROOT, atomic_text, busy_cores, csv_text, fmt, run_worker, wait_idle
 
@@ -64,7 +69,11 @@ def main() -> None:
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", type=float, nargs="+", default=SIZES)
+    ap.add_argument("--two-ranks", nargs="+", default=[], metavar="MAP",
+                    help="solve these maps again on 2 ranks, timed and compared with the kept points ('all': every map)")
     args = ap.parse_args()
+    for name in sorted(p.parent.name for p in MAPS.glob("*/sweep.csv")) if args.two_ranks == ["all"] else args.two_ranks:
+        two_ranks(name)
     _, busy = wait_idle(300.0)
     t0 = time.perf_counter()
     load = [f"{busy:.2f}"]
@@ -86,6 +95,41 @@ def main() -> None:
     write(rows, refs, maps(), time.perf_counter() - t0, load)
 
 
+def two_ranks(name: str) -> None:
+    """Solve map ``name`` again with its own command on 2 ranks in a scratch directory; keep the
+    wall time and the largest relative difference of F~ from the kept points."""
+    import os
+    import shlex
+    import subprocess
+    import tempfile
+
+    command = json.loads((MAPS.parent / "summary.json").read_text())["commands"][name]
+    argv = shlex.split(command)
+    bin_dir = ROOT / ".venv" / "bin"
+    kept = {r["key"]: r for r in map_rows(MAPS / name)}
+    with tempfile.TemporaryDirectory() as scratch:
+        argv[argv.index("--out") + 1] = scratch
+        argv = [str(bin_dir / "mpirun"), "-n", "2", str(bin_dir / "bcfem"), *argv[4:], "--quiet"]
+        env = {**os.environ, "PATH": f"{bin_dir}:{os.environ['PATH']}"}
+        t0 = time.perf_counter()
+        subprocess.run(argv, cwd=ROOT, env=env, check=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+        wall = time.perf_counter() - t0
+        again = {r["key"]: r for r in map_rows(Path(scratch))}
+    assert again.keys() == kept.keys(), (name, sorted(again.keys() ^ kept.keys()))
+    status = all(again[k]["status"] == kept[k]["status"] for k in kept)
+    diff = max((abs(float(again[k]["F_tilde"]) / float(kept[k]["F_tilde"]) - 1) if float(kept[k]["F_tilde"]) else
+                abs(float(again[k]["F_tilde"])) for k in kept if kept[k]["status"] == "ok"), default=0.0)
+    record = {"ranks": 2, "wall_time_s": wall, "points": len(kept), "same_status": status,
+              "max_rel_diff_F_tilde": diff, "busy_cores_after": busy_cores()}
+    atomic_text(MAPS / name / "timing_2ranks.json", json.dumps(record, indent=1) + "\n")
+    print(f"{name} on 2 ranks: {wall:.0f} s, max |dF~/F~| = {diff:.1e} against the kept points", file=sys.stderr)
+
+
+def map_rows(directory) -> list[dict]:
+    """A sweep directory's points, each with its file key (the grid values and the settings' digest)."""
+    return [{**json.loads(p.read_text()), "key": p.stem} for p in (Path(directory) / "points").glob("*.json")]
+
+
 def maps() -> list[dict]:
     """Each map's cost: its points' own solve times (``solve_time_s`` in each point's record:
     the sum over every run that solved them, interrupted ones included), and the last run's
@@ -101,7 +145,9 @@ def maps() -> list[dict]:
         out.append({"map": path.parent.name, "points": len(rows), "failed": sum(r["status"] != "ok" for r in rows),
                     "timed": len(timed), "core_seconds": sum(timed),
                     "slowest_point_s": max(timed, default=math.nan),
-                    "last_run": {k: timing.get(k) for k in ("solved", "reused", "ranks", "wall_time_s")}})
+                    "last_run": {k: timing.get(k) for k in ("solved", "reused", "ranks", "wall_time_s")},
+                    "two_ranks": json.loads(two.read_text()) if (two := path.parent / "timing_2ranks.json").exists()
+                    else None})
     return out
 
 
@@ -143,18 +189,25 @@ def markdown(rows, refs, timings, wall, load) -> str:
          "the points are spread over the ranks, each a serial cycle. `core-s` is the sum of the points' own "
          "solve times (each point records it, so a map finished over several interrupted runs is counted in "
          "full; `timed` says how many points carry a time: points solved before this was recorded have none); "
-         "`wall on 2 ranks` = core-s / 2, the wall time of one run with the points evenly shared "
-         "(the slowest point bounds it from below). `last run`: the `timing.json` of the run that finished "
-         "the map (points solved / reused, ranks, wall time).", "",
-         "| map | points | failed | timed | core-s | core-s per point | slowest point [s] | wall on 2 ranks [min] "
-         "| last run: solved / reused, ranks, wall [s] |", "|---|---|---|---|---|---|---|---|---|"]
+         "`est. wall on 2 ranks` = core-s / 2, the wall time of one run with the points evenly shared "
+         "(the slowest point bounds it from below). `measured on 2 ranks`: the map solved again from nothing by "
+         f"its command on `mpirun -n 2` (`{COMMAND} --two-ranks MAP`), its wall time and the largest relative "
+         "difference of its F~ from the kept points (the sweep is rank-count invariant). `last run`: the "
+         "`timing.json` of the run that finished the map (points solved / reused, ranks, wall time).", "",
+         "| map | points | failed | timed | core-s | core-s per point | slowest point [s] | est. wall on 2 ranks [min] "
+         "| measured on 2 ranks: wall [min], max dF~/F~ | last run: solved / reused, ranks, wall [s] |",
+         "|---|---|---|---|---|---|---|---|---|---|"]
     for t in timings:
         last = t["last_run"]
         run = "-" if last["wall_time_s"] is None else f"{last['solved']} / {last['reused']}, {last['ranks']}, {last['wall_time_s']:.0f}"
         timed = [f"{t['core_seconds']:.0f}", f"{t['core_seconds'] / t['timed']:.1f}", f"{t['slowest_point_s']:.0f}",
                  f"{t['core_seconds'] / 120:.1f}" + ("" if t["timed"] == t["points"] else " (timed points)")] \
             if t["timed"] else ["-"] * 4
-        L.append(f"| {t['map']} | {t['points']} | {t['failed']} | {t['timed']} | {' | '.join(timed)} | {run} |")
+        two = t["two_ranks"]
+        measured = "-" if two is None else (f"{two['wall_time_s'] / 60:.1f}, {two['max_rel_diff_F_tilde']:.0e}"
+                                            + ("" if two["same_status"] else ", status differs"))
+        L.append(f"| {t['map']} | {t['points']} | {t['failed']} | {t['timed']} | {' | '.join(timed)} | {measured} "
+                 f"| {run} |")
     if timings:
         total = sum(t["core_seconds"] for t in timings)
         untimed = sum(t["points"] - t["timed"] for t in timings)
