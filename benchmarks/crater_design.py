@@ -72,7 +72,10 @@ def main() -> None:
     ap.add_argument("--two-ranks", nargs="+", default=[], metavar="MAP",
                     help="solve these maps again on 2 ranks, timed and compared with the kept points ('all': every map)")
     args = ap.parse_args()
-    for name in sorted(p.parent.name for p in MAPS.glob("*/sweep.csv")) if args.two_ranks == ["all"] else args.two_ranks:
+    known = sorted(p.parent.name for p in MAPS.glob("*/sweep.csv"))
+    if unknown := sorted(set(args.two_ranks) - set(known) - {"all"}):
+        ap.error(f"--two-ranks: no kept map {', '.join(unknown)} (allowed: all, {', '.join(known)})")
+    for name in known if args.two_ranks == ["all"] else args.two_ranks:
         two_ranks(name)
     _, busy = wait_idle(300.0)
     t0 = time.perf_counter()
@@ -109,7 +112,7 @@ def two_ranks(name: str) -> None:
     kept = {r["key"]: r for r in map_rows(MAPS / name)}
     with tempfile.TemporaryDirectory() as scratch:
         argv[argv.index("--out") + 1] = scratch
-        argv = [str(bin_dir / "mpirun"), "-n", "2", str(bin_dir / "bcfem"), *argv[4:], "--quiet"]
+        argv = [str(bin_dir / "mpirun"), "-n", "2", str(bin_dir / "bcfem"), *argv[argv.index("bcfem") + 1:], "--quiet"]
         env = {**os.environ, "PATH": f"{bin_dir}:{os.environ['PATH']}"}
         t0 = time.perf_counter()
         subprocess.run(argv, cwd=ROOT, env=env, check=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
