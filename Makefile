@@ -24,6 +24,7 @@ bench: venv
 	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/newtonal_vs_bordered.py
 	$(BIN)/python benchmarks/crater_air.py
 	$(BIN)/python benchmarks/crater_design.py
+	$(BIN)/python benchmarks/crater_regulariser.py
 
 # the dissertation's figures, reproduced by the demos on $(NP) ranks: docs/figures/<demo>/
 # (--full: the published grids; demos without such a grid ignore it)
