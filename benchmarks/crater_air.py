@@ -586,7 +586,9 @@ def markdown(rows, refs, mpi, args) -> str:
                             f"({'meets' if half['error'] < 0.01 else 'does NOT meet'} the < 1 % requirement)")
         else:
             verdicts.append(f"eps = {eps:g}: not measured (a run failed)")
-    L += ["", ("Verdict: " + "; ".join(verdicts) + ".") if verdicts else "Not run (`--reg-eps` empty).", ""]
+    L += ["", ("Verdict: " + "; ".join(verdicts) + ".") if verdicts else "Not run (`--reg-eps` empty).", "",
+          "Over every preload of Fig. 7.6, with four halvings and the same model on half the load step: "
+          "`crater-regulariser.md` (`benchmarks/crater_regulariser.py`).", ""]
 
     # -- 2 ranks
     L += ["## One full cycle on 2 cores", ""]
