@@ -101,7 +101,10 @@ HELP = {
     "strain_step": "platen strain between checkpoints of both stages, in (0, 0.1] (failed steps are "
                    "halved; every run passes the same checkpoints)",
     "surface_energy": "gamma / (mu a) of the crater wall, in [0, 0.1]: regularises creasing "
-                      "(physical PDMS: 7e-5)",
+                      "(physical PDMS: 7e-5); it also acts as a surface stress, lowering F_tilde on a "
+                      "smooth path (the hemisphere: by 1.4-2.1 per cent at 0.01 against 0, linear in gamma). "
+                      "0 is the unregularised model: it gets through Fig. 7.6's preloads too, but "
+                      "its creases are as fine as the mesh",
     "layer_thickness": "reinforcement layer lining the crater, alpha' = t / a, 0 (none) or in (0, 0.5)",
     "layer_stiffness": "beta' = mu_layer / mu of the reinforcement, > 0",
     "self_contact": "penalty of the crater wall's self-contact over mu/L (L: node spacing on the wall), "
