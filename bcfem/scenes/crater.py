@@ -81,7 +81,8 @@ summary.json ('stability'). A cycle that is not 'stable' has passed an
 instability, and the same parameters can then end in another stable state with
 another F_tilde (for the hemisphere, half the --strain-step moves it by 4.4 %
 at eps = 0.225 and up to 76 % from eps = 0.35 on): read such an F_tilde as one of
-several equilibria (docs/craters.md). On the hemisphere's smooth path the default
+several equilibria; 'bcfem sweep crater --grid strain_step=0.005:0.02:4' shows
+their spread (docs/craters.md). On the hemisphere's smooth path the default
 surface_energy 0.01 lowers F_tilde by 1.4-2.1 % against none. The wall does not
 pass through itself (penalty self-contact).
 Non-axisymmetric deformation is not followed, but with --waves N its onset is
