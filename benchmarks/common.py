@@ -37,6 +37,16 @@ def run_worker(script: str, case: dict, core: str = "0", cache: str | None = Non
     return {**json.loads(lines[-1][7:]), "t_process": t_process}
 
 
+def mpirun_bcfem(args: list[str], ranks: int, quiet_stdout: bool = False) -> None:
+    """Run ``mpirun -n RANKS bcfem ARGS`` from the repository's venv (the user's PETSC_OPTIONS
+    left out, so that the kept results do not depend on them); raises if it fails."""
+    bin_dir = ROOT / ".venv" / "bin"
+    env = {**os.environ, "PATH": f"{bin_dir}:{os.environ['PATH']}"}
+    env.pop("PETSC_OPTIONS", None)
+    subprocess.run([str(bin_dir / "mpirun"), "-n", str(ranks), str(bin_dir / "bcfem"), *args], cwd=ROOT, env=env,
+                   check=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL if quiet_stdout else None)
+
+
 def count_newton():
     """Count every Newton solve and iteration from now on (also those of event location and
     Brent; ``Branch.newton_iterations`` counts accepted steps only).

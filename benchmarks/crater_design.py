@@ -29,7 +29,7 @@ import sys
 import time
 from pathlib import Path
 
-from common import ROOT, atomic_text, busy_cores, csv_text, fmt, run_worker, wait_idle
+from common import ROOT, atomic_text, busy_cores, csv_text, fmt, mpirun_bcfem, run_worker, wait_idle
 
 OUT = ROOT / "docs" / "benchmarks"
 MAPS = ROOT / "docs" / "figures" / "crater_design" / "sweeps"
@@ -101,21 +101,16 @@ def main() -> None:
 def two_ranks(name: str) -> None:
     """Solve map ``name`` again with its own command on 2 ranks in a scratch directory; keep the
     wall time and the largest relative difference of F~ from the kept points."""
-    import os
     import shlex
-    import subprocess
     import tempfile
 
     command = json.loads((MAPS.parent / "summary.json").read_text())["commands"][name]
     argv = shlex.split(command)
-    bin_dir = ROOT / ".venv" / "bin"
     kept = {r["key"]: r for r in map_rows(MAPS / name)}
     with tempfile.TemporaryDirectory() as scratch:
         argv[argv.index("--out") + 1] = scratch
-        argv = [str(bin_dir / "mpirun"), "-n", "2", str(bin_dir / "bcfem"), *argv[argv.index("bcfem") + 1:], "--quiet"]
-        env = {**os.environ, "PATH": f"{bin_dir}:{os.environ['PATH']}"}
         t0 = time.perf_counter()
-        subprocess.run(argv, cwd=ROOT, env=env, check=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
+        mpirun_bcfem([*argv[argv.index("bcfem") + 1:], "--quiet"], ranks=2, quiet_stdout=True)
         wall = time.perf_counter() - t0
         again = {r["key"]: r for r in map_rows(Path(scratch))}
     assert again.keys() == kept.keys(), (name, sorted(again.keys() ^ kept.keys()))

@@ -24,8 +24,9 @@ pass through itself (penalty self-contact, :mod:`bcfem.self_contact`). A surface
 crater wall (``surface_energy`` = γ/(μa), default 0.01, physical PDMS 7e-5)
 gives creases a length scale; its effect on F~ is measured by halving it
 (docs/benchmarks/crater-regulariser.md): the default lowers F~ by 1.4-2.1 % on a
-smooth path, and past an instability the same parameters have several stable end states. Loss of (axisymmetric) stability is detected
-from the tangent's inertia after every step; a step Newton cannot reach is
+smooth path, and past an instability the same parameters have several stable end
+states. Loss of (axisymmetric) stability is detected from the tangent's inertia
+after every step; a step Newton cannot reach is
 taken by pseudo-time relaxation (a snap), and both are reported. With
 ``waves`` = N the non-axisymmetric Fourier modes n = 1..N are checked as well
 (:mod:`bcfem.modes`): the wave numbers that lose stability, and where, are
