@@ -47,7 +47,9 @@ def _range_or(convert):
 
 def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> None:
     """One flag per field of ``params_cls``; with ``ranges`` a float flag also takes
-    ``start:stop:step`` (a sweep axis)."""
+    ``start:stop:step`` (a sweep axis). A field's help, unit, choices and named values
+    come from its metadata (``help``, ``unit``, ``choices``, ``words``), else from
+    ``help_text`` and the class's ``CHOICES`` and ``WORDS``."""
     defaults = params_cls()
     for f in dataclasses.fields(params_cls):
         default = getattr(defaults, f.name)
@@ -55,14 +57,18 @@ def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> No
             continue
         flag = "--" + f.name.replace("_", "-")
         kind = type(default)
-        kwargs = {"default": default, "help": f"{help_text.get(f.name, '')} (default: {default})"}
-        if f.name in getattr(params_cls, "CHOICES", {}):
-            kwargs["choices"] = params_cls.CHOICES[f.name]
+        text = f.metadata.get("help", help_text.get(f.name, ""))
+        unit = f.metadata.get("unit", "")
+        unit = f" [{unit}]" if unit not in ("", "1") else ""
+        kwargs = {"default": default, "help": f"{text}{unit} (default: {default})"}
+        choices = f.metadata.get("choices", getattr(params_cls, "CHOICES", {}).get(f.name))
+        if choices:
+            kwargs["choices"] = list(choices)
         if kind is bool:
             kwargs["action"] = argparse.BooleanOptionalAction
         else:
             kwargs["type"] = _float if kind is float else kind
-        words = getattr(params_cls, "WORDS", {}).get(f.name)
+        words = f.metadata.get("words", getattr(params_cls, "WORDS", {}).get(f.name))
         if words:  # named values, e.g. --preload closure
             kwargs["type"] = _words_or(words, kwargs["type"])
         if ranges and kind is float:
@@ -91,7 +97,7 @@ def build_parser():
     for name, module in REGISTRY.items():
         p = scenes.add_parser(name, help=module.SUMMARY, description=module.DESCRIPTION,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, module.HELP)
+        _add_params(p, module.Params, getattr(module, "HELP", {}))
         p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
         p.add_argument("--quiet", action="store_true", help="no progress line")
     from bcfem.scenes import STUDIES
@@ -104,7 +110,7 @@ def build_parser():
         module = REGISTRY[name]
         p = sweeps.add_parser(name, help=f"maps {studies.SWEEP['title']}", description=module.DESCRIPTION,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, module.HELP, ranges=True)
+        _add_params(p, module.Params, getattr(module, "HELP", {}), ranges=True)
         p.add_argument("--grid", action="append", default=[], metavar="NAME=START:STOP:COUNT",
                        help="a grid axis: NAME=START:STOP:COUNT or NAME=V1,V2,... (repeat for each axis; "
                             "two axes give contour maps); a parameter flag given as START:STOP:STEP "
@@ -117,7 +123,7 @@ def build_parser():
             continue
         p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,
                             formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, module.HELP)
+        _add_params(p, module.Params, getattr(module, "HELP", {}))
         for target, text in studies.FIT_TARGETS.items():
             p.add_argument(f"--{target}", dest=f"target_{target}", type=_float, required=True, help=text)
         p.add_argument("--out", type=Path, default=Path("results") / f"{name}-fit")
@@ -169,14 +175,9 @@ def main(argv: list[str] | None = None) -> int:
         return _sweep(parser, args, module, params, comm)
     if args.command == "fit":
         return _fit(parser, args, module, params, comm)
-    from bcfem.continuation import ContinuationError
-
     try:
-        if hasattr(module, "solve"):  # a staged scene that drives its own load path
-            runner.run_staged(module, params, args.out, comm)
-        else:
-            runner.run(module.build(params, comm), params, args.out, comm, columns=module.COLUMNS)
-    except (ContinuationError, RuntimeError) as err:
+        runner.run(module.build(params, comm), args.out, comm)
+    except runner.SolveError as err:
         if comm.rank == 0:
             print(f"bcfem run {args.scene}: solver failed: {err}", file=sys.stderr)
         return 1

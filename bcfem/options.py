@@ -8,6 +8,8 @@ or without a prefix (``-snes_rtol``); the prefixed one wins.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 from petsc4py import PETSc
 
 SOLVER_DEFAULTS = {
@@ -42,10 +44,12 @@ def merge(prefix: str, *layers: dict) -> dict:
     merged: dict = {}
     for layer in (SOLVER_DEFAULTS, *layers):
         merged.update(layer or {})
-    user = PETSc.Options().getAll()
+    opts = PETSc.Options()
+    user = opts.getAll()
     for key, value in user.items():
         if key.startswith(_USER_FAMILIES):
             merged[key] = value
+            opts.getString(key)  # read here: PETSc would report it unused at exit
     for key, value in user.items():
         if key.startswith(prefix):
             merged[key[len(prefix):]] = value
@@ -58,17 +62,25 @@ def user_set(prefix: str, key: str) -> bool:
     return opts.hasName(key) or opts.hasName(prefix + key)
 
 
-def keys_under(prefix: str) -> set[str]:
-    """The option names currently set under ``prefix``."""
-    return {k for k in PETSc.Options().getAll() if k.startswith(prefix)}
+@contextmanager
+def untouched():
+    """Put PETSc's options database back as it was on entry.
 
-
-def forget_new(prefix: str, before: set[str]) -> None:
-    """Delete options under ``prefix`` that appeared since ``before``.
-
-    NonlinearProblem writes its options into the global database and fails to
-    delete them; left there, a later ``setFromOptions`` would re-apply them.
+    dolfinx's ``NonlinearProblem`` writes its options under its prefix and leaves
+    them there (a later ``setFromOptions`` would re-apply them), and its clean-up
+    deletes the *unprefixed* keys of the same names: the user's ``-snes_max_it``
+    would vanish after the first problem, and every later stage would run on
+    bcfem's defaults.
     """
     opts = PETSc.Options()
-    for key in keys_under(prefix) - before:
-        opts.delValue(key)
+    before = opts.getAll()
+    try:
+        yield
+    finally:
+        after = opts.getAll()
+        for key in after.keys() - before.keys():
+            opts.delValue(key)
+        for key, value in before.items():
+            if after.get(key) != value:
+                opts.setValue(key, value)
+                opts.getString(key)  # it was read before: PETSc must not report it unused

@@ -65,15 +65,16 @@ class Problem:
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
         self.options = options.merge(prefix, petsc_options)
-        before = options.keys_under(prefix)
-        self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
-                                     petsc_options_prefix=prefix, petsc_options=self.options,
-                                     jit_options=jit_options)
-        options.forget_new(prefix, before)
+        with options.untouched():
+            self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
+                                         petsc_options_prefix=prefix, petsc_options=self.options,
+                                         jit_options=jit_options)
         self.snes: PETSc.SNES = self._nlp.solver
         self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
             else tuple(line_search_fallbacks)
         self.iterations = 0
+        #: Newton iterations over every solve
+        self.newton_iterations = 0
         self.reason = 0
         #: how often cp's critical-point exit had to be finished by Newton steps
         self.critical_point_exits = 0
@@ -207,6 +208,7 @@ class Problem:
                 line_search.setType(chosen)
             iterations += self.iterations
         self.iterations = iterations
+        self.newton_iterations += iterations
         ok = self.reason > 0 and np.isfinite(x.norm()) and not self._critical_point_exit()
         # vinewtonrsls tests convergence on the reduced norm it reports, so only other VI
         # types need the norm recomputed

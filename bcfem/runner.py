@@ -1,19 +1,42 @@
-"""Solve a scene along its load path and write its results directory.
+"""Solve any scene and write its results directory: one contract for every scene.
 
-Outputs (rank 0 writes CSV, JSON and PNG; all ranks write VTX):
-``branch.csv``, ``summary.json``, ``fields.bp`` and the scene's PNGs.
+A scene declares its stages and solves itself into a :class:`Run`, which builds each
+stage's :class:`~bcfem.problem.Problem` under the prefix ``bcfem_<scene>_<stage>_`` and
+records the accepted rows, the effective PETSc options and the cost. Arc-length scenes
+(:class:`~bcfem.scene.Scene`) and staged scenes (a crater cycle) differ only in their
+``solve``. Outputs (rank 0 writes CSV, JSON and PNG; all ranks write VTX):
+
+* ``summary.json``: ``status`` (``ok`` or ``failed``) and ``error``, the parameters, the
+  scene's results, ``steps``, ``newton_iterations``, ``dofs``, ``ranks``, ``wall_time_s``,
+  ``versions`` and ``petsc_options`` (the effective options, by full name);
+* ``branch.csv``: the accepted rows; on failure the converged part is kept and the
+  command exits 1;
+* the scene's PNGs, and ``fields.bp`` for scenes with fields.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import asdict
+from contextlib import contextmanager
+from dataclasses import asdict, is_dataclass
 from pathlib import Path
 
 from bcfem import io
 from bcfem.continuation import ArcLength, Branch, ContinuationError
 from bcfem.log import logger
 from bcfem.problem import Problem
+from bcfem.stepping import SteppingError
+
+#: what a scene raises when its path cannot go on (the converged part is kept)
+SolveErrors = (ContinuationError, SteppingError)
+
+
+class SolveError(RuntimeError):
+    """A scene's solve failed; ``run`` holds what converged."""
+
+    def __init__(self, message: str, run: Run):
+        super().__init__(message)
+        self.run = run
 
 
 def versions() -> dict:
@@ -26,18 +49,157 @@ def versions() -> dict:
             "petsc": "{}.{}.{}".format(*PETSc.Sys.getVersion())}
 
 
-def trace(scene, on_accept=None) -> tuple[Branch, Problem]:
+class Run:
+    """The record of one solve of a scene.
+
+    Attributes:
+        rows: accepted states' observables, in path order.
+        results: the scene's own summary entries (filled as the solve goes on, so that
+            a failed solve still reports what it found).
+        petsc_options: effective options of every stage's problem, by full name.
+        dofs: the largest global size of the stages' problems.
+        newton_iterations: over every stage.
+    """
+
+    def __init__(self, scene, comm, on_accept=None):
+        self.scene = scene
+        self.comm = comm
+        self.on_accept = on_accept
+        self.rows: list[dict] = []
+        self.results: dict = {}
+        self.petsc_options: dict[str, str] = {}
+        self.dofs = 0
+        self.newton_iterations = 0
+        self._problems: list[Problem] = []
+
+    def prefix(self, stage: str) -> str:
+        """``bcfem_<scene>_<stage>_``, for a stage the scene declares."""
+        if stage not in self.scene.stages:
+            raise ValueError(f"scene {self.scene.name!r} declares the stages {self.scene.stages}, not {stage!r}")
+        return f"bcfem_{self.scene.name}_{stage}_".replace("-", "_")
+
+    def problem(self, stage: str, ctx, terms, bcs, petsc_options=None, **kwargs) -> Problem:
+        """The problem of ``stage`` (closed by :meth:`close` or :meth:`stage`)."""
+        problem = Problem(ctx, terms, bcs, self.prefix(stage), petsc_options, **kwargs)
+        self.petsc_options.update({problem.prefix + k: str(v) for k, v in problem.options.items()})
+        self.dofs = max(self.dofs, sum(s.function_space.dofmap.index_map.size_global
+                                       * s.function_space.dofmap.index_map_bs for s in problem.states))
+        self._problems.append(problem)
+        return problem
+
+    @contextmanager
+    def stage(self, stage: str, ctx, terms, bcs, petsc_options=None, **kwargs):
+        """:meth:`problem` as a context: the problem is closed on leaving, also on failure."""
+        problem = self.problem(stage, ctx, terms, bcs, petsc_options, **kwargs)
+        try:
+            yield problem
+        finally:
+            self.release(problem)
+
+    def release(self, problem: Problem) -> None:
+        """Count the problem's Newton iterations and destroy its PETSc objects."""
+        if problem in self._problems:
+            self._problems.remove(problem)
+            self.newton_iterations += problem.newton_iterations
+            problem.close()
+
+    def record(self, row: dict) -> None:
+        """Keep an accepted state's observables."""
+        self.rows.append(row)
+        if self.on_accept is not None:
+            self.on_accept(row)
+
+    def restart(self) -> None:
+        """Forget the rows and results (a scene that traces its path again from the start)."""
+        self.rows.clear()
+        self.results.clear()
+
+    def close(self) -> None:
+        for problem in list(self._problems):
+            self.release(problem)
+
+
+def solve(scene, comm, on_accept=None) -> tuple[Run, dict]:
+    """Solve ``scene``; returns (the run, its summary). Raises :class:`SolveError` (with the
+    run, whose ``summary`` says ``failed``) when the path cannot go on."""
+    t0 = time.perf_counter()
+    run = Run(scene, comm, on_accept)
+    error = None
+    try:
+        scene.solve(run)
+    except SolveErrors as err:
+        error = str(err)
+    finally:
+        run.close()
+    params = getattr(scene, "params", None)
+    run.summary = {
+        "scene": scene.name,
+        "status": "failed" if error else "ok",
+        "error": error,
+        "parameters": asdict(params) if is_dataclass(params) else {},
+        **run.results,
+        "steps": len(run.rows),
+        "newton_iterations": run.newton_iterations,
+        "dofs": run.dofs,
+        "ranks": comm.size,
+        "wall_time_s": time.perf_counter() - t0,
+        "versions": versions(),
+        "petsc_options": run.petsc_options,
+    }
+    if error:
+        raise SolveError(error, run)
+    return run, run.summary
+
+
+def run(scene, out: Path, comm) -> dict:
+    """Solve ``scene`` and write ``out`` (also on failure, then raising :class:`SolveError`
+    after writing); returns the summary."""
+    out = Path(out)
+    if comm.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    comm.barrier()
+    fields = io.FieldWriter(comm, out / "fields.bp", scene.fields) if scene.fields else None
+    written = [0]
+
+    def on_accept(row):  # the field's time is the arc length, or the row's index
+        fields.write(row.get("s", written[0]))
+        written[0] += 1
+
+    failure = None
+    try:
+        solved, summary = solve(scene, comm, on_accept if fields else None)
+    except SolveError as err:
+        failure, solved, summary = err, err.run, err.run.summary
+    finally:
+        if fields:
+            fields.close()
+    io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
+    io.write_json(out / "summary.json", summary, comm)
+    if comm.rank == 0 and solved.rows:
+        for name, fig in scene.figures(solved.rows, summary).items():
+            io.save_figure(fig, out / name, comm)
+    if failure is not None:
+        raise SolveError(f"{failure} (the converged part is in {out})", solved)
+    logger.info(f"{scene.name}: {len(solved.rows)} points, {summary['wall_time_s']:.2f} s -> {out}")
+    return summary
+
+
+# -- arc-length scenes ----------------------------------------------------------------------
+def trace(scene, on_accept=None, run: Run | None = None) -> tuple[Branch, Problem]:
     """Build the arc-length problem of ``scene``, start it and follow the branch.
 
     If the scene has a ``begin`` condition, the branch is first traced backwards
     from the start to where ``begin`` turns positive (without switches, and
     without field output), then forwards; the rows are joined in path order,
-    with negative arc lengths before the start.
+    with negative arc lengths before the start. With a ``run`` the problem is the
+    run's (stage ``branch``); a :class:`ContinuationError` then carries the converged
+    part as ``err.branch`` and the problem as ``err.problem``.
     """
     arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
-    problem = Problem(scene.ctx, scene.terms, scene.bcs, scene.prefix,
-                      scene.petsc_options, rows={**scene.rows, **arc.rows()},
-                      energy_scale=scene.load_scale)
+    arguments = (scene.ctx, scene.terms, scene.bcs)
+    options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
+                   energy_scale=scene.load_scale)
+    problem = run.problem("branch", *arguments, **options) if run else Problem(*arguments, scene.prefix, **options)
     back = None
     try:
         start(arc, problem, scene)
@@ -104,74 +266,3 @@ def start(arc, problem, scene, attempts: int = 6) -> None:
         except ContinuationError:
             if attempt == attempts - 1:
                 raise
-
-
-def run(scene, params, out: Path, comm, columns: list[str] | None = None) -> dict:
-    """Trace ``scene`` and write ``out``; returns the summary dict."""
-    t0 = time.perf_counter()
-    out = Path(out)
-    if comm.rank == 0:
-        out.mkdir(parents=True, exist_ok=True)
-    comm.barrier()
-    fields = io.FieldWriter(comm, out / "fields.bp", scene.fields) if scene.fields else None
-    on_accept = (lambda values: fields.write(values["s"])) if fields else None
-    status, error = "complete", None
-    try:
-        branch, problem = trace(scene, on_accept)
-    except ContinuationError as err:
-        # keep what converged, and say plainly that the branch is incomplete
-        status, error = "failed", str(err)
-        branch, problem = err.branch, err.problem
-    if fields:
-        fields.close()
-    dofs = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.bs
-               for s in problem.states)
-    petsc_options = {k: str(v) for k, v in problem.options.items()}
-    problem.close()
-    wall = time.perf_counter() - t0
-
-    io.write_csv(out / "branch.csv", branch.rows, comm, columns)
-    summary = {
-        "scene": scene.name,
-        "status": status,
-        "error": error,
-        "parameters": asdict(params),
-        "limit_points": [{**lp.values, "kind": lp.kind} for lp in branch.limit_points],
-        "events": branch.events,
-        **(scene.summarize(branch) if scene.summarize else {}),
-        "steps": len(branch.rows),
-        "newton_iterations": branch.newton_iterations,
-        "failed_steps": branch.failed_steps,
-        "dofs": dofs,
-        "ranks": comm.size,
-        "wall_time_s": wall,
-        "versions": versions(),
-        "petsc_options": petsc_options,
-    }
-    io.write_json(out / "summary.json", summary, comm)
-    if comm.rank == 0:
-        from bcfem.plots import branch_figure
-
-        for name, (x, y, xl, yl) in scene.plots.items():
-            fig = branch_figure(branch, x, y, xl, yl, title=scene.name)
-            io.save_figure(fig, out / name, comm)
-    if error:
-        raise ContinuationError(f"{error} (the converged part is in {out})")
-    logger.info(f"{scene.name}: {len(branch.rows)} points, {len(branch.limit_points)} limit points, "
-                f"{wall:.2f} s -> {out}")
-    return summary
-
-
-def run_staged(module, params, out: Path, comm) -> dict:
-    """Run a scene that drives its own stages (``module.solve``) and write its results."""
-    out = Path(out)
-    if comm.rank == 0:
-        out.mkdir(parents=True, exist_ok=True)
-    rows, summary = module.solve(params, comm)
-    summary = {**summary, "versions": versions()}
-    io.write_csv(out / "branch.csv", rows, comm, module.COLUMNS)
-    io.write_json(out / "summary.json", summary, comm)
-    if comm.rank == 0 and hasattr(module, "plot"):
-        io.save_figure(module.plot(rows, summary), out / "cycle.png", comm)
-    logger.info(f"{module.__name__.rsplit('.', 1)[-1]}: {len(rows)} points, {summary['wall_time_s']:.2f} s -> {out}")
-    return summary

@@ -1,6 +1,11 @@
 """What a scene is: a geometry and states (the context), energy terms, boundary
 conditions, a load path and its observables. Scenes build one; the runner
 solves it. Nothing here knows which physics a scene holds.
+
+Every scene has a ``name``, declared ``stages`` (its PETSc prefixes are
+``bcfem_<name>_<stage>_``), ``params``, ``columns``, ``fields``, ``solve(run)`` and
+``figures(rows, summary)`` (:mod:`bcfem.runner` drives it). :class:`Scene` is the
+arc-length scene, with the one stage ``branch``; a staged scene declares its own.
 """
 
 from __future__ import annotations
@@ -40,6 +45,8 @@ class Scene:
         rows: replacement residual rows of states (e.g. a held or free debond radius).
         switches: model changes along the path (``bcfem.continuation.Switch``).
         summarize: extra entries of ``summary.json`` from the finished branch.
+        params: the scene's parameters (recorded in ``summary.json``).
+        columns: the columns of ``branch.csv``.
     """
 
     name: str
@@ -62,7 +69,40 @@ class Scene:
     rows: dict = field(default_factory=dict)
     switches: list = field(default_factory=list)
     summarize: Callable[[object], dict] | None = None
+    params: object = None
+    columns: list[str] | None = None
+
+    stages = ("branch",)
 
     @property
     def prefix(self) -> str:
-        return "bcfem_" + self.name.replace("-", "_") + "_"
+        return f"bcfem_{self.name}_branch_".replace("-", "_")
+
+    def solve(self, run) -> None:
+        """Trace the branch into ``run``: its rows, limit points, events and counts."""
+        from bcfem.continuation import ContinuationError
+        from bcfem.runner import trace
+
+        try:
+            branch, problem = trace(self, run.on_accept, run)
+        except ContinuationError as err:
+            self._report(run, err.branch)
+            raise
+        self._report(run, branch)
+        self._branch = branch
+
+    def _report(self, run, branch) -> None:
+        run.rows[:] = branch.rows
+        run.results.update({
+            "limit_points": [{**lp.values, "kind": lp.kind} for lp in branch.limit_points],
+            "events": branch.events,
+            **(self.summarize(branch) if self.summarize and branch.rows else {}),
+            "failed_steps": branch.failed_steps})
+        self._branch = branch
+
+    def figures(self, rows, summary) -> dict:
+        """The scene's ``plots`` of the branch, limit points marked."""
+        from bcfem.plots import branch_figure
+
+        return {name: branch_figure(self._branch, x, y, xl, yl, title=self.name)
+                for name, (x, y, xl, yl) in self.plots.items()}

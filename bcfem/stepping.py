@@ -13,6 +13,10 @@ a target in adaptive steps:
   load moves a full first step on by pseudo-time relaxation (:func:`bcfem.relaxation.relax`), which lets the body move
   downhill at the new load until Newton converges on an equilibrium; this is
   reported as a ``snap`` event;
+* :meth:`LoadPath.through` passes fixed checkpoints (k times a step), so runs to
+  different targets share their states on the way; :meth:`LoadPath.bisect` locates
+  where a predicate of the state turns true, and :meth:`LoadPath.root` where a
+  function of the state vanishes, each from a :meth:`LoadPath.mark`;
 * after each accepted step the inertia of the tangent is checked
   (:func:`bcfem.stability.unstable_modes`); a change in the number of
   unstable modes is reported as an event, and so is a change in the set of
@@ -25,6 +29,7 @@ raises with the last accepted value.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -49,6 +54,7 @@ class LoadPath:
         problem: the Problem (its states are restored after a failed step).
         set_load: sets the load parameter (e.g. a platen displacement).
         stage: a label for events and messages.
+        load_name: the load's name in events (e.g. ``eps``, a platen strain).
         viscosity: the problem's Viscosity term (None: no relaxation).
         relax_stiffness: initial viscosity c of a relaxation.
         multipliers: names of multiplier states, for the stability count.
@@ -72,6 +78,7 @@ class LoadPath:
     max_snaps: int = 6
     events: list = field(default_factory=list)
     waves: Callable[[], dict] | None = None
+    load_name: str = "load"
     unstable: int = 0
     unstable_waves: tuple = ()
     snaps: int = 0
@@ -111,7 +118,7 @@ class LoadPath:
                     if self.snaps > self.max_snaps:
                         raise SteppingError(f"{self.stage}: more than {self.max_snaps} snaps (the path keeps "
                                             f"losing stability, e.g. a deepening crease) at {trial:.5g}", current)
-                    self.events.append({"stage": self.stage, "eps": trial, "kind": "snap", "unstable": None,
+                    self.events.append({"stage": self.stage, self.load_name: trial, "kind": "snap", "unstable": None,
                                         "detail": f"passed by pseudo-time relaxation ({steps} steps)"})
                 else:
                     self.problem.restore(self._saved)
@@ -137,6 +144,63 @@ class LoadPath:
             if on_accept is not None and on_accept(current):
                 break
         return current
+
+    def through(self, start: float, end: float, step: float,
+                on_accept: Callable[[float], bool | None] | None = None) -> float:
+        """Advance from ``start`` to ``end`` through the checkpoints k * step, so that every run
+        passes the same load states whatever its end (sweep points share one path). Stops
+        early when ``on_accept`` returns True; returns the last accepted value."""
+        sign = 1.0 if end >= start else -1.0
+        k = math.floor(start / step + 1e-9) + 1 if sign > 0 else math.ceil(start / step - 1e-9) - 1
+        current, stopped = start, False
+
+        def accept(value):
+            nonlocal stopped
+            stopped = bool(on_accept(value)) if on_accept else False
+            return stopped
+
+        while (end - current) * sign > 1e-12 and not stopped:
+            checkpoint = k * step
+            target = checkpoint if (end - checkpoint) * sign > 1e-12 else end
+            current = self.advance(current, target, abs(target - current), accept)
+            k += int(sign)
+        return current
+
+    def bisect(self, before: dict, after: float, passed: Callable[[float], bool], bisections: int) -> float:
+        """Where ``passed`` (a predicate of the state at a load) turns true, between the
+        :meth:`mark` ``before`` (not passed) and the current state at load ``after`` (passed):
+        ``bisections`` halvings of the bracket, or fewer if Newton cannot reach a midpoint (the
+        event is then a snap inside the bracket). Each trial starts from the last state before
+        the event; the path ends at the first state found past it, whose load is returned."""
+        past = self.mark(after)
+        for _ in range(bisections):
+            low = self.rewind(before)
+            middle = 0.5 * (low + after)
+            try:
+                self.advance(low, middle, middle - low)
+            except SteppingError:
+                break
+            if passed(middle):
+                after, past = middle, self.mark(middle)
+            else:
+                before = self.mark(middle)
+        self.rewind(past)
+        return after
+
+    def root(self, before: dict, after: float, function: Callable[[], float], xtol: float) -> float:
+        """The load between the :meth:`mark` ``before`` and ``after`` where ``function`` (of the
+        current state) vanishes, to ``xtol`` (Brent); every evaluation starts from ``before``, so
+        there is no hysteresis between evaluations. The path ends at the root's state."""
+        from scipy.optimize import brentq  # lazily: scipy.optimize is slow to import
+
+        def at(load):
+            start = self.rewind(before)
+            self.advance(start, load, abs(load - start))
+            return function()
+
+        load = brentq(at, after, before["value"], xtol=xtol)
+        at(load)
+        return load
 
     def mark(self, value: float) -> dict:
         """The accepted state at load ``value`` with the path's record (snaps, events,
@@ -168,7 +232,7 @@ class LoadPath:
             return
         unstable = unstable_modes(self.problem, self.multipliers)
         if unstable != self.unstable:
-            self.events.append({"stage": self.stage, "eps": value, "kind": "stability", "unstable": unstable,
+            self.events.append({"stage": self.stage, self.load_name: value, "kind": "stability", "unstable": unstable,
                                 "detail": f"unstable axisymmetric modes {self.unstable} -> {unstable}"})
             self.unstable = unstable
         if self.waves is None:
@@ -179,7 +243,7 @@ class LoadPath:
             # more unstable directions with n waves than axisymmetric ones: the loss of stability
             # is not (only) an axisymmetric mode's, so symmetry breaks
             most = max(counts.values(), default=0)
-            self.events.append({"stage": self.stage, "eps": value, "kind": "waves", "unstable": most,
+            self.events.append({"stage": self.stage, self.load_name: value, "kind": "waves", "unstable": most,
                                 "waves": list(waves), "breaks_symmetry": most > self.unstable,
                                 "detail": f"unstable wave numbers n = {_ranges(self.unstable_waves)} -> "
                                           f"{_ranges(waves)} (at most {most} modes per n, {self.unstable} "

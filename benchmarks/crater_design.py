@@ -29,14 +29,14 @@ import sys
 import time
 from pathlib import Path
 
+from bcfem.scenes.crater.params import PRELOAD_TO_CLOSURE  # dolfinx-free
 from common import ROOT, atomic_text, busy_cores, csv_text, fmt, mpirun_bcfem, run_worker, wait_idle
 
 OUT = ROOT / "docs" / "benchmarks"
 MAPS = ROOT / "docs" / "figures" / "crater_design" / "sweeps"
 COMMAND = ".venv/bin/python benchmarks/crater_design.py"
-CLOSURE = -1.0  # crater.CLOSURE (not imported here: the driver stays free of dolfinx)
 POINTS = {
-    "air, alpha 0.7, beta 1, full closure (Fig. 7.9)": dict(alpha=0.7, beta=1.0, preload=CLOSURE),
+    "air, alpha 0.7, beta 1, full closure (Fig. 7.9)": dict(alpha=0.7, beta=1.0, preload=PRELOAD_TO_CLOSURE),
     "liquid, hemisphere, eps 0.25 (Fig. 8.4)": dict(fluid="liquid", alpha=1.0, preload=0.25),
     "liquid, alpha 0.85, layer 0.03/30, eps 0.25 (Fig. 8.7b)": dict(
         fluid="liquid", alpha=0.85, preload=0.25, layer_thickness=0.03, layer_stiffness=30.0),

@@ -89,11 +89,9 @@ def run_newtonal(args, step, correction="exact"):
     F = ufl.derivative(strain - kin.integral(pressure * kin.volume_density), u, v)
     J = ufl.derivative(F, u, ufl.TrialFunction(V))
 
-    def problem(prefix, opts):  # unique prefix; delete the options dolfinx leaves behind
-        before = options.keys_under(prefix)
-        p = NonlinearProblem(F, u, bcs=bcs, J=J, petsc_options_prefix=prefix, petsc_options=opts)
-        options.forget_new(prefix, before)
-        return p
+    def problem(prefix, opts):  # unique prefix; the options database is left as it was
+        with options.untouched():
+            return NonlinearProblem(F, u, bcs=bcs, J=J, petsc_options_prefix=prefix, petsc_options=opts)
 
     # converge at P0 with plain Newton (NEWTONAL always starts at lambda = 0 from the given u)
     start = problem("nal_start_", {**NEWTON, "snes_type": "newtonls", "snes_linesearch_type": "basic"})

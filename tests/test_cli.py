@@ -72,13 +72,33 @@ def test_mpi_gives_the_serial_branch(serial, tmp_path):
 
 
 def test_petsc_options_pass_through(tmp_path):
+    """Unprefixed and prefixed (bcfem_<scene>_<stage>_) options win over bcfem's; summary.json
+    records the effective options by full name, and PETSc reports none of them unused."""
     out = tmp_path / "opts"
     res = bcfem(*ARGS, "--v-max", "0.5", "--out", str(out), "-snes_max_it", "17",
-                env={"PETSC_OPTIONS": "-bcfem_blister_rigid_snes_rtol 1e-9"})
+                env={"PETSC_OPTIONS": "-bcfem_blister_rigid_branch_snes_rtol 1e-9"})
     assert res.returncode == 0, res.stderr
     _, summary = read(out)
-    assert summary["petsc_options"]["snes_max_it"] == "17"
-    assert summary["petsc_options"]["snes_rtol"] == "1e-9"
+    assert summary["status"] == "ok" and summary["steps"] > 0 and summary["newton_iterations"] > 0
+    assert summary["petsc_options"]["bcfem_blister_rigid_branch_snes_max_it"] == "17"
+    assert summary["petsc_options"]["bcfem_blister_rigid_branch_snes_rtol"] == "1e-9"
+    assert "unused" not in res.stderr + res.stdout
+
+
+def test_a_crater_that_cannot_converge_fails_and_keeps_its_converged_rows(tmp_path):
+    """The user's options win in every stage, the retrace included: a Newton of one
+    iteration that must reach 1e-30 cannot, so the run says failed, keeps the rows that
+    converged (the rest state) and exits 1."""
+    out = tmp_path / "fail"
+    res = bcfem("run", "crater", "--preload", "0.2", "--size-crater", "0.12", "--quiet", "--out", str(out),
+                "-snes_max_it", "1", "-snes_rtol", "1e-30", "-snes_atol", "1e-30", "-snes_stol", "0")
+    assert res.returncode == 1, res.stderr
+    assert "solver failed" in res.stderr and "traced again" in res.stderr
+    rows, summary = read(out)
+    assert summary["status"] == "failed" and "no converged state" in summary["error"]
+    assert summary["petsc_options"]["bcfem_crater_load_snes_max_it"] == "1"
+    assert len(rows) == summary["steps"] >= 1 and float(rows[0]["eps"]) == 0.0
+    assert (out / "cycle.png").exists()
 
 
 @pytest.mark.parametrize("args, word", [

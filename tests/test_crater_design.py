@@ -14,7 +14,7 @@ def cycle(**kwargs):
 
 @pytest.fixture(scope="module")
 def hemisphere_to_closure():
-    return cycle(preload=crater.CLOSURE)
+    return cycle(preload=crater.PRELOAD_TO_CLOSURE)
 
 
 def test_layer_as_stiff_as_the_specimen_changes_nothing():
@@ -41,11 +41,11 @@ def test_closure_preload_brackets_the_first_closed_state(hemisphere_to_closure):
     summary = hemisphere_to_closure
     eps_m = summary["eps_m"]
     assert 0.3 < eps_m < 0.5
-    assert summary["V1_over_V0"] <= crater.CLOSURE_VOLUME and summary["p2_over_pa"] == 0.0
+    assert summary["V1_over_V0"] <= crater.CLOSURE_CRITERIA.volume and summary["p2_over_pa"] == 0.0
     assert summary["F_tilde"] == pytest.approx(summary["A2_over_A0"], rel=1e-12)
     assert "eq. 7.17" in summary["closure_note"]
     below = cycle(preload=round(eps_m - 0.01, 4))
-    assert below["V1_over_V0"] > crater.CLOSURE_VOLUME and below["closure_note"] is None
+    assert below["V1_over_V0"] > crater.CLOSURE_CRITERIA.volume and below["closure_note"] is None
     assert abs(below["fluid_law_residual"]) < 1e-8
 
 
@@ -53,7 +53,7 @@ def test_a_crater_still_open_at_the_closure_limit_is_a_result(monkeypatch):
     """``--preload closure`` that reaches MAX_CLOSURE_PRELOAD with the crater open reports
     so (eps_m None, a note) and cycles from there: the plain cycle at that preload."""
     monkeypatch.setattr(crater, "MAX_CLOSURE_PRELOAD", 0.1)  # the hemisphere closes at ~0.4
-    summary = cycle(preload=crater.CLOSURE)
+    summary = cycle(preload=crater.PRELOAD_TO_CLOSURE)
     plain = cycle(preload=0.1)
     assert summary["eps_m"] is None and summary["preload"] == 0.1
     assert "does not close up to eps = 0.1" in summary["closure_note"]
@@ -106,9 +106,9 @@ def test_symmetry_classes_come_from_waves_beyond_the_axisymmetric_count():
 def test_closed_liquid_crater_gives_no_suction(hemisphere_to_closure):
     """Eq. 8.8: a liquid crater closed on loading stays closed (V2 = V1 = 0): F_hat = 0, said
     so; the loading (vented) is the air crater's, so eps_m is the same."""
-    summary = cycle(fluid="liquid", preload=crater.CLOSURE)
+    summary = cycle(fluid="liquid", preload=crater.PRELOAD_TO_CLOSURE)
     assert summary["eps_m"] == pytest.approx(hemisphere_to_closure["eps_m"], rel=1e-10)
-    assert summary["F_hat"] == 0.0 and summary["V2_over_V0"] <= crater.CLOSURE_VOLUME
+    assert summary["F_hat"] == 0.0 and summary["V2_over_V0"] <= crater.CLOSURE_CRITERIA.volume
     assert "eq. 8.8" in summary["closure_note"]
 
 
@@ -116,12 +116,12 @@ def test_a_soft_shallow_crater_stays_closed_and_says_so():
     """alpha = 0.25, beta = 0.5 (Fig. 7.10, top left): pressed flat, the crater's wall needs
     less than p_a to lift, so the vacuum holds it on the plate through the unloading. No
     cavity, no suction area: F~ ~ 0, and the note says why."""
-    summary = cycle(preload=crater.CLOSURE, alpha=0.25, beta=0.5)
-    assert summary["V2_over_V0"] <= crater.CLOSURE_VOLUME
+    summary = cycle(preload=crater.PRELOAD_TO_CLOSURE, alpha=0.25, beta=0.5)
+    assert summary["V2_over_V0"] <= crater.CLOSURE_CRITERIA.volume
     assert summary["F_tilde"] == pytest.approx(summary["A2_over_A0"], rel=1e-12) and summary["F_tilde"] < 1e-3
     assert "stays closed after unloading" in summary["closure_note"]
     # a stiffer one (beta = 10) springs open: a cavity, and no such note
-    stiff = cycle(preload=crater.CLOSURE, alpha=0.25, beta=10.0)
+    stiff = cycle(preload=crater.PRELOAD_TO_CLOSURE, alpha=0.25, beta=10.0)
     assert stiff["V2_over_V0"] > 0.1 and stiff["F_tilde"] > 0.9
     assert "stays closed" not in stiff["closure_note"]
 
@@ -131,8 +131,8 @@ def test_thin_stiff_lining_closes_with_a_trapped_pocket():
     never reaches CLOSURE_VOLUME V0. The crater counts as closed once the wall lies on the
     plate up to the axis with at most TRAPPED_VOLUME V0 left; stage 2 has a vacuum inside,
     and the neglected remnant is reported."""
-    summary = cycle(preload=crater.CLOSURE, alpha=1.0, beta=1.0, layer_thickness=0.015, layer_stiffness=30.0)
-    assert crater.CLOSURE_VOLUME < summary["V1_over_V0"] <= crater.TRAPPED_VOLUME
+    summary = cycle(preload=crater.PRELOAD_TO_CLOSURE, alpha=1.0, beta=1.0, layer_thickness=0.015, layer_stiffness=30.0)
+    assert crater.CLOSURE_CRITERIA.volume < summary["V1_over_V0"] <= crater.CLOSURE_CRITERIA.trapped
     assert 0.3 < summary["eps_m"] < 0.6
     assert summary["p2_over_pa"] == 0.0 and summary["F_tilde"] == pytest.approx(summary["A2_over_A0"], rel=1e-12)
     assert "trapped remnant" in summary["closure_note"]
@@ -164,31 +164,39 @@ def test_stiffness_contrasts_of_1e3_and_1e4_converge_to_a_rigid_lining():
 
 
 def test_a_failed_cycle_is_traced_again_with_bounded_steps(monkeypatch):
-    """The control flow of the retrace (the real failures it saves take 5-20 min each:
-    docs/craters.md): a cycle that gets through is traced once, with full Newton steps;
-    one that fails is traced again, carefully, and says why; a second failure names both."""
+    """The control flow of the retrace (the real failures it saves take minutes each): a
+    cycle that gets through is traced once, with full Newton steps; one that fails is traced
+    again, carefully, and says why; a second failure names both, and the run says failed."""
+    from bcfem.runner import SolveError
+    from bcfem.scenes.crater.stages import CraterCycle
+    from bcfem.stepping import SteppingError
+
     calls = []
 
-    def cycle(params, comm, model_class, t0, careful):
+    def cycle(self, run, careful):
         calls.append(careful)
+        run.record({"eps": 0.0})
         if careful in fail:
-            raise crater.SteppingError(f"{'careful' if careful else 'first'} failed", 0.5)
-        return [], {"F_tilde": 1.0, "retraced": None}
+            raise SteppingError(f"{'careful' if careful else 'first'} failed", 0.5)
+        run.results.update(F_tilde=1.0, retraced=None)
 
-    monkeypatch.setattr(crater, "_cycle", cycle)
+    monkeypatch.setattr(CraterCycle, "_cycle", cycle)
     params = crater.Params()
     fail = ()
-    assert crater.solve(params, MPI.COMM_SELF) == ([], {"F_tilde": 1.0, "retraced": None}) and calls == [False]
+    rows, summary = crater.solve(params, MPI.COMM_SELF)
+    assert rows == [{"eps": 0.0}] and summary["F_tilde"] == 1.0 and summary["retraced"] is None
+    assert summary["status"] == "ok" and calls == [False]
     calls.clear()
     fail = (False,)
-    _, summary = crater.solve(params, MPI.COMM_SELF)
-    assert calls == [False, True] and summary["retraced"] == "first failed"
+    rows, summary = crater.solve(params, MPI.COMM_SELF)
+    assert calls == [False, True] and summary["retraced"] == "first failed" and len(rows) == 1
     calls.clear()
     fail = (False, True)
-    with pytest.raises(crater.SteppingError, match="careful failed .*the first trace: first failed"):
+    with pytest.raises(SolveError, match="careful failed .*the first trace: first failed") as failure:
         crater.solve(params, MPI.COMM_SELF)
+    assert failure.value.run.summary["status"] == "failed" and len(failure.value.run.rows) == 1
     # without self-contact there is no step bound to trace with: the first failure stands
     calls.clear()
-    with pytest.raises(crater.SteppingError, match="^first failed$"):
+    with pytest.raises(SolveError, match="^first failed$"):
         crater.solve(crater.Params(self_contact=0), MPI.COMM_SELF)
     assert calls == [False]

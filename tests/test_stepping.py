@@ -35,7 +35,7 @@ def test_rewind_restores_state_load_snaps_and_events():
     # a trial path: it moves on, snaps twice and reports an event
     path.advance(0.5, 0.8, 0.1)
     path.snaps += 2
-    path.events.append({"stage": "load", "eps": 0.7, "kind": "snap", "unstable": None, "detail": "trial"})
+    path.events.append({"stage": "load", "load": 0.7, "kind": "snap", "unstable": None, "detail": "trial"})
     assert path.rewind(mark) == 0.5
     assert problem.load == 0.5 and np.all(problem.u == 0.5)
     assert path.snaps == 0 and path.events == []
@@ -59,7 +59,7 @@ def test_waves_events_and_their_rewind(monkeypatch):
     path.advance(0.0, 0.4, 0.1)
     mark = path.mark(0.4)
     path.advance(0.4, 0.7, 0.1)
-    found = [(e["eps"], e["waves"], e["breaks_symmetry"]) for e in path.events if e["kind"] == "waves"]
+    found = [(e["load"], e["waves"], e["breaks_symmetry"]) for e in path.events if e["kind"] == "waves"]
     assert [(w, b) for _, w, b in found] == [([1], False), ([1, 2], True)]  # n = 1 copies the axisymmetric mode
     assert 0.3 <= found[0][0] <= 0.4 and 0.5 <= found[1][0] <= 0.7
     assert "n = 1 -> 1-2" in path.events[-1]["detail"]

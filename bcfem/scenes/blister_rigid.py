@@ -193,7 +193,7 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
                  # membrane pressures are O(stiffness), a droplet's O(2 alpha)
                  load_scale=max(params.stiffness, 2 * params.alpha),
                  guard=guard_for(params), rows=edge.rows, switches=switches,
-                 summarize=summarize)
+                 summarize=summarize, params=params, columns=COLUMNS)
 
 
 def summarize(branch) -> dict:

@@ -16,10 +16,11 @@ from mpi4py import MPI
 
 from bcfem.geometry.crater import LAYER
 from bcfem.scenes import crater
+from bcfem.scenes.crater.model import Crater
 
 
-class Recorder(crater.Crater):
-    """``crater.Crater`` that keeps, at every observed state, its row, the displacement
+class Recorder(Crater):
+    """``Crater`` that keeps, at every observed state, its row, the displacement
     interpolated on P1 (to deform the vertex mesh) and the crater wall's current nodes."""
 
     def __init__(self, params, comm):

@@ -1,0 +1,160 @@
+r"""The crater model: mesh, states, energy terms, boundary conditions and observables.
+
+A neo-Hookean specimen (nearly incompressible, Taylor-Hood u-p) with a crater in its
+bottom face stands on a rigid plate. The bottom face is held on the plate (u_z = 0,
+free to slide): ambient pressure holds the sealed interface down. The crater wall is
+in frictionless contact with the plate (z >= 0, bounds of a variational inequality)
+and may not pass through itself (penalty self-contact, :mod:`bcfem.self_contact`).
+A surface energy γ on the wall gives its creases a length scale. The crater fluid is
+a term of the unloading stage (:mod:`bcfem.fluids`); units: pressures in p_a (so
+μ/p_a = β), lengths in mm.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from dolfinx import fem
+
+from bcfem.cavity import Cavity
+from bcfem.context import Context
+from bcfem.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, LAYER, SPECIMEN, TOP, create_mesh
+from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.modes import ModeAnalysis
+from bcfem.mpi import PointEvaluator, global_sum, real_value
+from bcfem.relaxation import Viscosity
+from bcfem.scenes.crater.params import Params
+from bcfem.self_contact import WallSelfContact
+from bcfem.solid import AxisymmetricSolid
+
+
+class Crater:
+    """The composed crater model: mesh, states, terms, the two stages' problems."""
+
+    def __init__(self, params: Params, comm):
+        self.params = params
+        geometry = params.geometry()
+        self.geometry = geometry
+        data = create_mesh(geometry, comm)
+        msh, facets = data.mesh, data.facet_tags
+        V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
+        self.u = fem.Function(V, name="displacement")
+        self.ctx = Context(self.u, AxisymmetricSolid(self.u, quadrature_degree=4, cell_tags=data.cell_tags,
+                                                     facet_tags=facets))
+
+        def neo_hookean(mu):
+            return NearlyIncompressibleNeoHookean(mu=mu, kappa=params.kappa_ratio * mu)
+
+        if params.layer_thickness > 0:  # the layer is its own material region
+            self.solids = [SolidStrain(neo_hookean(params.beta), region=SPECIMEN),
+                           SolidStrain(neo_hookean(params.layer_stiffness * params.beta), region=LAYER)]
+        else:
+            self.solids = [SolidStrain(neo_hookean(params.beta))]
+        self.platen = fem.Function(V.sub(1).collapse()[0])
+        gamma = params.surface_energy * params.beta * geometry.crater_radius  # gamma~ mu a
+        self.surface = SolidSurfaceEnergy(gamma, CRATER, "crater_surface_energy") if gamma > 0 else None
+        self.viscosity = Viscosity(self.u)
+        # the wall (or its lining) must not fold through itself; the stiffest material sets k
+        stiffest = params.beta * (max(1.0, params.layer_stiffness) if params.layer_thickness > 0 else 1.0)
+        # residuals in units of the stiffest modulus (>= p_a): Newton's round-off floor grows
+        # with the stiffness and stalled above the absolute tolerance for beta' = 300 linings
+        self.energy_scale = max(1.0, stiffest)
+        self.self_contact = (WallSelfContact(facets, CRATER, stiffest, penalty=params.self_contact)
+                             if params.self_contact > 0 else None)
+        self.strain = 0.0
+        self.bcs = self._bcs(V, facets)
+        self.cavity = Cavity(CRATER)
+        self.volume = fem.form(self.cavity.volume(self.ctx.kin))
+        self.rim = PointEvaluator(msh, [geometry.crater_radius, 0.0]).expression(self.u[0])
+        Vz, zmap = V.sub(1).collapse()
+        _, rmap = V.sub(0).collapse()
+        wall = fem.locate_dofs_topological(Vz, 1, facets.find(CRATER))
+        self._wall_dofs = wall
+        # reference points and displacement dofs of the crater wall, found once
+        self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
+                      np.asarray(rmap).reshape(-1)[wall])
+        self.mesh = msh
+        self.cell_tags = data.cell_tags
+
+    def terms(self, *fluid) -> list:
+        """The solid, the wall's surface energy and self-contact (if any), the fluid, and the
+        viscosity used only while relaxing past an instability."""
+        optional = [t for t in (self.surface, self.self_contact) if t is not None]
+        return [*self.solids, *optional, *fluid, self.viscosity]
+
+    def set_platen(self, strain: float) -> None:
+        """Platen displacement for the specimen strain eps = -dL/L."""
+        self.strain = strain
+        self.platen.x.array[:] = -strain * self.params.specimen_height
+
+    def _bcs(self, V, facets):
+        def on(sub, tag, value=None):
+            space, _ = V.sub(sub).collapse()
+            dofs = fem.locate_dofs_topological((V.sub(sub), space), 1, facets.find(tag))
+            return fem.dirichletbc(value if value is not None else fem.Function(space), dofs, V.sub(sub))
+
+        return [on(0, AXIS), on(1, BOTTOM), on(1, TOP, self.platen)]
+
+    def observe(self, stage: str, eps: float, V1: float | None = None) -> dict:
+        V0, A0 = self.geometry.crater_volume, math.pi * self.geometry.crater_radius**2
+        V = global_sum(self.volume)
+        A = math.pi * self.open_radius() ** 2
+        p = real_value(self.ctx.states["fluid_pressure"]) if "fluid_pressure" in self.ctx.states and V1 else 1.0
+        if V1 == 0.0:
+            p = 0.0  # closed crater: vacuum
+        return {"stage": stage, "eps": eps, "V_over_V0": V / V0, "p_over_pa": p, "A_over_A0": A / A0,
+                "F_tilde": (1 - p) * A / A0, "V": V}
+
+    def contact_bounds(self, problem):
+        """z = Z + u_z >= 0 on the crater wall (frictionless contact with the plate), as
+        bounds of the variational-inequality solver; every other unknown is free."""
+        lower = [fem.Function(s.function_space) for s in problem.states]
+        upper = [fem.Function(s.function_space) for s in problem.states]
+        for f in lower:
+            f.x.array[:] = -1e20
+        for f in upper:
+            f.x.array[:] = 1e20
+        V = self.u.function_space
+        Vz, zmap = V.sub(1).collapse()
+        Z = Vz.tabulate_dof_coordinates()[self._wall_dofs, 1]
+        lower[problem.names.index("displacement")].x.array[np.asarray(zmap).reshape(-1)[self._wall_dofs]] = -Z
+        problem.set_bounds(lower, upper)
+
+    def wave_check(self, terms, prefix: str):
+        """None, or {n: unstable modes with n waves} at the current state, n = 1..``waves``;
+        the wall nodes on the plate hold their normal displacement."""
+        if not self.params.waves:
+            return None
+        analysis = ModeAnalysis(self.ctx, [t for t in terms if t is not self.viscosity], self.bcs, prefix)
+        X, zdofs, _ = self._wall
+        tolerance = 1e-9 * self.geometry.crater_radius
+
+        def check():
+            on_plate = zdofs[X[:, 1] + self.u.x.array[zdofs] <= tolerance]
+            return analysis.scan(range(1, self.params.waves + 1), held=on_plate)
+
+        return check
+
+    def open_radius(self) -> float:
+        """Current radius of the edge of the suction area, where the crater wall leaves
+        the plate. The pressure on the wall has the vertical resultant Δp π r_edge²
+        whatever the wall's shape above (an overhang cancels), so A = π r_edge².
+        The wall lies on the plate from the rim up to some reference height; the edge
+        is the rim if only the rim is on the plate, else midway between the highest
+        node on the plate and the next node off it (known to within a node spacing)."""
+        X, zdofs, rdofs = self._wall
+        a = self.geometry.crater_radius
+        z = X[:, 1] + self.u.x.array[zdofs]
+        r = X[:, 0] + self.u.x.array[rdofs]
+        on = z <= 1e-6 * a
+        Z = X[:, 1]  # the reference height orders the wall from the rim (0) to the pole
+        local_on = max(zip(Z[on], r[on]), default=(-1.0, 0.0))
+        top, r_on = max(self.mesh.comm.allgather(local_on))
+        above = ~on & (Z > top)
+        local_off = min(zip(Z[above], r[above]), default=(math.inf, 0.0))
+        nearest, r_off = min(self.mesh.comm.allgather(local_off))
+        if top <= 1e-12 * a or not math.isfinite(nearest):
+            return r_on
+        return 0.5 * (r_on + r_off)

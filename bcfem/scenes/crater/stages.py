@@ -1,0 +1,222 @@
+r"""The crater's suction cycle as two declared stages (ch. 7-8).
+
+``load`` (vent open): the platen compresses the specimen to the preload
+ε = -ΔL/L through fixed checkpoints; the crater fluid stays at p_a, so the wall is
+unloaded. With ``--preload closure`` the stage ends at the smallest preload that
+closes the crater (ε_m, located by bisection).
+
+``unload`` (sealed): the fluid is a term of its own (Boyle's law for air, a volume
+constraint for a liquid, a vacuum once closed):
+
+.. math:: L(u, p) = \int W(F, p_s)\,dV - (p - p_a)\,V(u) + p_a V_1 \ln(p/p_a),
+
+and the platen retracts until its force vanishes (located by Brent's method). The
+suction force is F = (1 - V1/V2) p_a A2 (eq. 7.3), F~ = F/(p_a A0) (eq. 7.13).
+
+A step Newton cannot reach is taken by pseudo-time relaxation (a snap), and the
+tangent's inertia is checked after every step (:class:`bcfem.stepping.LoadPath`).
+A cycle that fails is traced once more from the start with Newton steps bounded to
+keep the wall admissible and a larger default iteration limit (the user's PETSc
+options still win); ``retraced`` in the summary says why the first trace failed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from bcfem.fluids import FLUIDS, Vacuum
+from bcfem.log import progress
+from bcfem.mpi import global_sum
+from bcfem.scenes.crater.model import Crater
+from bcfem.scenes.crater.params import (CLOSURE_CRITERIA, MAX_CLOSURE_PRELOAD, MAX_LIFT, PRELOAD_TO_CLOSURE,
+                                        Params)
+from bcfem.scenes.crater.report import COLUMNS, finish, plot
+from bcfem.stepping import LoadPath, SteppingError
+
+#: full Newton steps can cycle between two contact active sets; backtracking breaks the
+#: cycle, and where it stalls, cp (a line search on the energy along Newton's direction) may
+LINE_SEARCH_FALLBACKS = ("bt", "cp")
+#: the retrace's default Newton budget: steps bounded to keep the wall admissible converge
+#: more slowly than full ones
+CAREFUL = {"snes_max_it": 80}
+#: the multiplier states of the crater's terms (the solid's pressure, the fluid's)
+MULTIPLIERS = ["solid_pressure", "fluid_pressure"]
+
+
+class CraterCycle:
+    """The crater scene: a :class:`Crater` model driven through the stages ``load`` and
+    ``unload`` (:mod:`bcfem.runner` solves it).
+
+    Args:
+        params: the scene's parameters.
+        comm: the communicator of the mesh.
+        model_class: ``Crater`` or a subclass (e.g. one that records the deformed states,
+            :mod:`bcfem.scenes.crater.frames`).
+    """
+
+    name = "crater"
+    stages = ("load", "unload")
+    columns = COLUMNS
+    fields: list = []
+
+    def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
+        self.params = params
+        self.comm = comm
+        self.model_class = model_class
+        self.model: Crater | None = None
+
+    def solve(self, run) -> None:
+        """Both stages; a failed cycle is traced once more with bounded Newton steps."""
+        try:
+            self._cycle(run, careful=False)
+        except SteppingError as failure:
+            if self.params.self_contact == 0:
+                raise
+            progress(f"{failure}: tracing the cycle again with bounded Newton steps")
+            run.restart()
+            try:
+                self._cycle(run, careful=True)
+            except SteppingError as again:
+                raise SteppingError(f"{again} (traced again with bounded Newton steps; the first trace: "
+                                    f"{failure})", again.reached) from None
+            run.results["retraced"] = str(failure)
+
+    def figures(self, rows, summary) -> dict:
+        return {"cycle.png": plot(rows, summary)}
+
+    def _path(self, problem, set_load, stage: str, events: list, waves) -> LoadPath:
+        beta, a = self.params.beta, self.params.crater_radius
+        return LoadPath(problem, set_load, stage, self.model.viscosity, beta / a**2, MULTIPLIERS,
+                        events=events, max_snaps=self.params.max_snaps, waves=waves, load_name="eps")
+
+    def _cycle(self, run, careful: bool) -> None:
+        params = self.params
+        model = self.model = self.model_class(params, self.comm)
+        events: list[dict] = []
+        run.results.update(instabilities=events, retraced=None)
+        solver = {"snes_type": "vinewtonrsls", **(CAREFUL if careful else {})}
+        kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
+
+        with run.stage("load", model.ctx, model.terms(), model.bcs, solver, **kwargs) as loading:
+            model.contact_bounds(loading)
+            if careful:
+                loading.bound_steps()
+            path = self._path(loading, model.set_platen, "load", events,
+                              model.wave_check(model.terms(), run.prefix("load") + "modes_"))
+            run.record(model.observe("load", 0.0))
+            path.start()
+            if params.preload == PRELOAD_TO_CLOSURE:
+                preload, closes = load_to_closure(model, path, run)
+            else:
+                preload, closes = params.preload, False
+                path.through(0.0, preload, params.strain_step, lambda e: run.record(model.observe("load", e)))
+        V1 = run.rows[-1]["V"]
+        # full closure: nothing left inside (closure mode neglects a trapped remnant)
+        closed = V1 <= CLOSURE_CRITERIA.closed * model.geometry.crater_volume or closes
+        if closed and params.fluid == "liquid":
+            # an incompressible liquid crater that closed stays closed: V2 = V1 = 0, F = 0 (eq. 8.8)
+            final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
+            finish(run, model, final, V1, closed, preload, preload, events, path.unstable)
+            return
+        if not closed:
+            model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
+        fluid = Vacuum(model.cavity) if closed else FLUIDS[params.fluid](model.cavity, V1)
+        terms = model.terms(fluid)
+        with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading:
+            model.contact_bounds(unloading)
+            if careful:
+                unloading.bound_steps()
+            path = self._path(unloading, model.set_platen, "unload", events,
+                              model.wave_check(terms, run.prefix("unload") + "modes_"))
+            zero_force = self._unload(model, path, unloading, preload, 0.0 if closed else V1, closed, run)
+            final = model.observe("unload", model.strain, 0.0 if closed else V1)
+        finish(run, model, final, V1, closed, preload, zero_force, events, path.unstable)
+
+    def _unload(self, model, path, unloading, preload: float, V1_sealed: float, closed: bool, run) -> float:
+        """Retract the platen from ``preload`` to zero force; returns the strain there."""
+        params, H = self.params, self.params.specimen_height
+        # self-contact is left out: its forces pair up on the wall, so their work in w is the
+        # contact force times gap / H, negligible
+        w = fem.Function(model.u.function_space)
+        w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / H]))
+        platen_force = fem.form(ufl.derivative(unloading.lagrangian, model.u, w))  # compression < 0
+        path.start()
+        if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
+            ramp = model.ctx.constant("vacuum_load")
+            sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", path.viscosity,
+                               path.relax_stiffness, path.multipliers, events=path.events,
+                               max_snaps=params.max_snaps, waves=path.waves, load_name="vacuum_ramp")
+            sealing.start()
+            first = len(path.events)
+            sealing.advance(0.0, 1.0, 0.25)
+            for event in path.events[first:]:  # report the platen strain; the ramp value goes in the detail
+                event.update(detail=f"{event['detail']} (vacuum ramp at {event.pop('vacuum_ramp'):.3g})",
+                             eps=preload)
+            path.unstable, path.unstable_waves = sealing.unstable, sealing.unstable_waves
+        path.set_load(preload)
+        last = path.mark(preload)
+
+        def accept(strain):
+            if global_sum(platen_force) >= 0:
+                return True
+            run.record(model.observe("unload", strain, V1_sealed))
+            last.update(path.mark(strain))
+            return False
+
+        # past a snap the specimen can still push at eps = 0: the platen then lifts further;
+        # a force below round-off counts as zero: at eps = 0 there is nothing to unload
+        round_off = -1e-10 * math.pi * params.specimen_radius**2 * max(1.0, params.beta)
+        if global_sum(platen_force) >= round_off:
+            reached = preload
+        else:
+            reached = path.through(preload, -MAX_LIFT, params.strain_step, accept)
+        if global_sum(platen_force) < round_off:
+            raise SteppingError(f"unload: the platen force is still compressive at eps = {reached:.4g}", reached)
+        if reached < 0:
+            path.events.append({"stage": "unload", "eps": reached, "kind": "lift", "unstable": None,
+                                "detail": "zero platen force only beyond the specimen's original height"})
+        if reached == last["value"]:
+            return reached
+        return path.root(last, reached, lambda: global_sum(platen_force), xtol=1e-10 * max(preload, 1e-3))
+
+
+def load_to_closure(model, path: LoadPath, run, bisections: int = 10) -> tuple[float, bool]:
+    """The load stage up to the smallest preload that closes the crater, eps_m (to a
+    2^-bisections fraction of the last step, or to the bracket where a snap-through closure
+    stops the bisection): load until the crater is closed (:data:`CLOSURE_CRITERIA`), then
+    bisect between the last open and the first closed state. Stage 2 neglects the remnant,
+    which changes F by at most V1/V2; the summary reports V1.
+
+    Returns (eps_m, True), or (``MAX_CLOSURE_PRELOAD``, False) for a crater still open there
+    (a result, e.g. a thick stiff lining that holds it open: the cycle then runs from there)."""
+    V0, c = model.geometry.crater_volume, CLOSURE_CRITERIA
+
+    def closed(row) -> bool:
+        return row["V"] <= c.volume * V0 or (row["V"] <= c.trapped * V0 and row["A_over_A0"] <= c.area)
+
+    open_state = path.mark(0.0)
+
+    def accept(eps):
+        row = model.observe("load", eps)
+        run.record(row)
+        if closed(row):
+            return True
+        open_state.update(path.mark(eps))
+        return False
+
+    closed_at = path.through(0.0, MAX_CLOSURE_PRELOAD, model.params.strain_step, accept)
+    if not closed(run.rows[-1]):
+        return closed_at, False
+
+    def passed(eps) -> bool:
+        row = model.observe("load", eps)
+        if closed(row):
+            run.rows[-1] = row  # the closed state kept is the first one found past eps_m
+            return True
+        return False
+
+    return path.bisect(open_state, closed_at, passed, bisections), True
