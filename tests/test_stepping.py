@@ -145,3 +145,83 @@ def test_the_error_says_when_converged_states_were_rejected():
     assert f"; {problem.rejections} converged states on the way were rejected, the last as: through itself" \
         in str(failure.value)
     assert problem.rejections > 10  # every cut was tried
+
+
+def test_through_passes_the_same_checkpoints_whatever_the_end():
+    """Two paths to different ends, and one that starts between checkpoints, pass the
+    checkpoints k * step; the path ends exactly at its end; an accept that returns True
+    stops it there."""
+    def visited(start, end, step, stop=None):
+        problem = Quadratic()
+        problem.u[:] = problem.load = start
+        path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", check_stability=False)
+        path.start()
+        seen = []
+
+        def accept(value):
+            seen.append(value)
+            return stop is not None and value >= stop - 1e-12
+
+        return path.through(start, end, step, accept), seen
+
+    end, seen = visited(0.0, 0.3, 0.1)
+    assert end == pytest.approx(0.3) and seen == pytest.approx([0.1, 0.2, 0.3])
+    end, seen = visited(0.0, 0.25, 0.1)
+    assert end == pytest.approx(0.25) and seen == pytest.approx([0.1, 0.2, 0.25])
+    end, seen = visited(0.15, 0.35, 0.1)
+    assert seen == pytest.approx([0.2, 0.3, 0.35])
+    end, seen = visited(0.3, -0.05, 0.1)  # backwards, past zero
+    assert seen == pytest.approx([0.2, 0.1, 0.0, -0.05])
+    end, seen = visited(0.0, 1.0, 0.1, stop=0.4)
+    assert end == pytest.approx(0.4) and seen[-1] == pytest.approx(0.4)
+
+
+def test_bisect_locates_an_event_of_the_state_and_ends_past_it():
+    """u = load; the event 'u >= 0.237' is bracketed by the checkpoints 0.2 and 0.3 and
+    bisected 20 times: the located load is within 0.1 * 2**-20 above the event, the state
+    is the one found past it, and trial states below the event leave no trace."""
+    problem = Quadratic()
+    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", check_stability=False)
+    path.start()
+    path.advance(0.0, 0.2, 0.2)
+    before = path.mark(0.2)
+    path.advance(0.2, 0.3, 0.1)
+    trials = []
+
+    def passed(load):
+        trials.append(load)
+        return problem.u[0] >= 0.237
+
+    located = path.bisect(before, 0.3, passed, bisections=20)
+    assert 0.237 <= located <= 0.237 + 0.1 * 2**-20
+    assert np.all(problem.u == located) and problem.load == located and len(trials) == 20
+
+
+def test_root_locates_a_zero_of_the_state_from_a_mark():
+    """u = load, f = u^2 - 0.05 between the mark at 0.3 and 0.2: the root sqrt(0.05) is found
+    to xtol, every evaluation starting from the mark, and the path ends at the root."""
+    problem = Quadratic()
+    starts = []
+
+    def set_load(value):
+        problem.load = value
+
+    path = LoadPath(problem, set_load, "load", check_stability=False)
+    path.start()
+    path.advance(0.0, 0.3, 0.3)
+    mark = path.mark(0.3)
+    path.advance(0.3, 0.2, 0.1)
+
+    def f():
+        return problem.u[0] ** 2 - 0.05
+
+    original = path.rewind
+
+    def rewind(m):
+        starts.append(m["value"])
+        return original(m)
+
+    path.rewind = rewind
+    root = path.root(mark, 0.2, f, xtol=1e-12)
+    assert root == pytest.approx(np.sqrt(0.05), abs=1e-11)
+    assert np.all(problem.u == root) and set(starts) == {0.3}
