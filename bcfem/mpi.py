@@ -96,3 +96,35 @@ def cell_maximum(mesh, expr, degree: int = 1):
         return mesh.comm.allreduce(float(local), op=MPI.MAX)
 
     return maximum
+
+
+def coordinate_range(mesh, axis: int = 0) -> tuple[float, float]:
+    """The smallest and largest reference coordinate ``axis`` of the mesh, on every rank."""
+    x = mesh.geometry.x[:, axis]
+    lo = mesh.comm.allreduce(float(x.min()) if x.size else np.inf, op=MPI.MIN)
+    hi = mesh.comm.allreduce(float(x.max()) if x.size else -np.inf, op=MPI.MAX)
+    return lo, hi
+
+
+def sample(function: fem.Function, points: np.ndarray) -> np.ndarray:
+    """Values of ``function`` at ``points`` (n x 3), on every rank: each point is evaluated by
+    the ranks that own a cell containing it, and a point on a rank boundary, found twice, is
+    averaged; a point outside the mesh is NaN."""
+    mesh = function.function_space.mesh
+    tdim = mesh.topology.dim
+    tree = geometry.bb_tree(mesh, tdim, padding=1e-12)
+    colliding = geometry.compute_colliding_cells(mesh, geometry.compute_collisions_points(tree, points), points)
+    owned = mesh.topology.index_map(tdim).size_local
+    size = function.function_space.dofmap.index_map_bs * max(1, int(np.prod(function.ufl_shape)) //
+                                                             function.function_space.dofmap.index_map_bs)
+    values = np.zeros((len(points), size))
+    found = np.zeros(len(points))
+    for k in range(len(points)):
+        cells = [c for c in colliding.links(k) if c < owned]
+        if cells:
+            values[k] = function.eval(points[k:k + 1], np.array(cells[:1], dtype=np.int32)).reshape(-1)
+            found[k] = 1
+    values = mesh.comm.allreduce(values, op=MPI.SUM)
+    found = mesh.comm.allreduce(found, op=MPI.SUM)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return values / found[:, None]

@@ -20,14 +20,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import ufl
-from mpi4py import MPI
 from dolfinx import fem
 
 from bcfem.context import Context
 from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.kinematics import AxisymmetricMembrane
 from bcfem.materials import MATERIALS, Gent, NeoHookean
-from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
+from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, global_sum, real_value, sample
 from bcfem.params import ContinuationParams, require
 from bcfem.continuation import Switch
 from bcfem.scene import Scene
@@ -327,8 +326,6 @@ def profile(scene, samples: int = 201) -> dict:
     displacement's degree (exact for R, r, z; interpolated for the tractions,
     one-sided at element edges) and evaluated with one search tree.
     """
-    from dolfinx import geometry
-
     ctx = scene.ctx
     kin = ctx.kin
     N_r, N_t = scene.terms[0].tractions(ctx)
@@ -337,26 +334,12 @@ def profile(scene, samples: int = 201) -> dict:
     fields = fem.Function(W)
     fields.interpolate(fem.Expression(ufl.as_vector([kin.R, kin.r, kin.z, N_r, N_t]),
                                       W.element.interpolation_points))
-    x = ctx.mesh.geometry.x[:, 0]
-    lo = ctx.mesh.comm.allreduce(x.min() if x.size else np.inf, op=MPI.MIN)
-    hi = ctx.mesh.comm.allreduce(x.max() if x.size else -np.inf, op=MPI.MAX)
+    lo, hi = coordinate_range(ctx.mesh)
     xi = np.linspace(lo, hi, samples)
     # just inside the ends (the axis value of N is a limit)
     points = np.zeros((samples, 3))
     points[:, 0] = np.clip(xi, lo + 1e-12, hi - 1e-12)
-    tree = geometry.bb_tree(ctx.mesh, 1, padding=1e-12)
-    colliding = geometry.compute_colliding_cells(ctx.mesh, geometry.compute_collisions_points(tree, points), points)
-    owned = ctx.mesh.topology.index_map(1).size_local
-    values = np.zeros((samples, 5))
-    found = np.zeros(samples)
-    for k in range(samples):
-        cells = [c for c in colliding.links(k) if c < owned]
-        if cells:
-            values[k] = fields.eval(points[k:k + 1], np.array(cells[:1], dtype=np.int32))
-            found[k] = 1
-    values = ctx.mesh.comm.allreduce(values, op=MPI.SUM)
-    found = ctx.mesh.comm.allreduce(found, op=MPI.SUM)
-    values /= found[:, None]  # a point on a rank boundary is found twice
+    values = sample(fields, points)
     # on the axis (R = 0) the hoop stretch r/R is a limit: take the nearest finite value
     for column in values.T:
         bad = ~np.isfinite(column)
