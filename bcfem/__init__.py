@@ -15,6 +15,7 @@ from bcfem.materials import Gent, NeoHookean
 from bcfem.mpi import global_sum, point_value, real_value
 from bcfem.params import ContinuationParams
 from bcfem.problem import Problem
+from bcfem.protocols import DiscreteTerm, Kinematics, Term, find_term
 
 __version__ = "0.1.0"
 
@@ -25,7 +26,9 @@ __all__ = [
     "Context",
     "ContinuationError",
     "ContinuationParams",
+    "DiscreteTerm",
     "Gent",
+    "Kinematics",
     "LimitPoint",
     "MembraneStrain",
     "NeoHookean",
@@ -33,7 +36,9 @@ __all__ = [
     "Problem",
     "SurfaceTension",
     "Switch",
+    "Term",
     "VolumeControl",
+    "find_term",
     "global_sum",
     "point_value",
     "real_value",
