@@ -1,7 +1,8 @@
 r"""Energy terms: each returns one scalar UFL form in the reference configuration.
 
-A term is a frozen dataclass with ``energy(ctx)``. Residuals and tangents are
-never written by hand: the problem builder differentiates the sum of the terms.
+A term is a frozen dataclass with ``energy(ctx)`` (:class:`bcfem.protocols.Term`).
+Residuals and tangents are never written by hand: the problem builder
+differentiates the sum of the terms.
 Parameters that may change during a run are ``fem.Constant`` (via
 ``ctx.constant``), so each form compiles once.
 
@@ -30,6 +31,8 @@ class MembraneStrain:
 
     material: object
     thickness: float = 1.0  # [m]
+    name = "membrane_strain"
+    multipliers = ()
 
     def __post_init__(self):
         require(self.thickness > 0, f"thickness must be > 0 (got {self.thickness})")
@@ -67,6 +70,7 @@ class SurfaceTension:
     gamma: float
     name: str = "gamma_l"
     region: int | None = None
+    multipliers = ()
 
     def __post_init__(self):
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
@@ -87,8 +91,14 @@ class PressureVolume:
     :math:`\hat V` stays 0, so the term is the plain pressure work
     :math:`-\Delta p\, V`. Either way its value is the free energy's -ΔpV.
 
-    Adds the state ``pressure`` and the constant ``volume_target``.
+    Adds the state ``pressure`` and the constant ``volume_target``. The pressure
+    is the multiplier of the volume constraint (one negative eigenvalue of the
+    tangent under volume control); a problem that replaces its row does not
+    count it as one.
     """
+
+    name = "pressure_volume"
+    multipliers = ("pressure",)
 
     def energy(self, ctx):
         p = ctx.real_state("pressure")
@@ -122,6 +132,7 @@ class WettedSubstrate:
     gamma: float
     name: str = "gamma_wet"
     region: int | None = None
+    multipliers = ()
 
     def energy(self, ctx):
         gamma = ctx.constant(self.name, self.gamma)
@@ -133,7 +144,8 @@ class SolidStrain:
     r"""Strain energy of a (nearly) incompressible solid with a mixed pressure,
     :math:`\int W(F, p)\, dV` (Taylor-Hood: P2 displacement, P1 pressure).
 
-    Adds the field state ``solid_pressure`` (shared by every region's term).
+    Adds the field state ``solid_pressure`` (shared by every region's term), the
+    multiplier of the volumetric constraint J - 1 = p/κ.
 
     Attributes:
         material: e.g. ``NearlyIncompressibleNeoHookean``.
@@ -144,6 +156,8 @@ class SolidStrain:
     material: object
     region: int | None = None
     pressure_degree: int = 1
+    name = "solid_strain"
+    multipliers = ("solid_pressure",)
 
     def energy(self, ctx):
         p = ctx.field_state("solid_pressure", self.pressure_degree)
@@ -164,6 +178,7 @@ class SolidSurfaceEnergy:
     gamma: float
     boundary: int
     name: str = "gamma_solid"
+    multipliers = ()
 
     def __post_init__(self):
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")

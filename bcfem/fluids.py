@@ -38,6 +38,10 @@ def _spread(ctx, value):
 class SealedFluid:
     """A fluid sealed at p = 1 in volume ``sealed_volume``.
 
+    Its pressure is a multiplier (:class:`bcfem.protocols.Term`): the row in p is
+    the equation of state, and the p-p block of the tangent is negative
+    (-V1/p^2 for a gas) or zero (a liquid), one negative eigenvalue either way.
+
     Attributes:
         cavity: the cavity (:class:`bcfem.cavity.Cavity`): its current volume V(u).
         sealed_volume: V1, the volume at sealing (> 0).
@@ -47,6 +51,11 @@ class SealedFluid:
     cavity: object
     sealed_volume: float
     pressure_name: str = "fluid_pressure"
+    name = "sealed_fluid"
+
+    @property
+    def multipliers(self) -> tuple[str, ...]:
+        return (self.pressure_name,)
 
     def unknowns(self, ctx):
         """(pressure state, sealed volume constant)."""
@@ -56,6 +65,8 @@ class SealedFluid:
 class IdealGas(SealedFluid):
     """p V = V1 (isothermal)."""
 
+    name = "ideal_gas"
+
     def energy(self, ctx):
         p, amount = self.unknowns(ctx)
         return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, amount * ufl.ln(p))
@@ -63,6 +74,8 @@ class IdealGas(SealedFluid):
 
 class IncompressibleLiquid(SealedFluid):
     """V = V1, p its multiplier (p may turn negative: no cavitation is modelled)."""
+
+    name = "incompressible_liquid"
 
     def energy(self, ctx):
         p, amount = self.unknowns(ctx)
@@ -77,6 +90,8 @@ class Vacuum:
     """An empty cavity: p = 0 inside, the ambient pressure's work s·V (s = ``vacuum_load``)."""
 
     cavity: object
+    name = "vacuum"
+    multipliers = ()
 
     def energy(self, ctx):
         return ctx.constant("vacuum_load", 0.0) * self.cavity.volume(ctx.kin)

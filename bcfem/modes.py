@@ -40,6 +40,7 @@ import ufl
 from dolfinx import default_scalar_type, fem
 from dolfinx.fem.petsc import assemble_matrix
 
+from bcfem.problem import global_dofs
 from bcfem.stability import negative_eigenvalues
 
 
@@ -151,6 +152,10 @@ class ModeAnalysis:
             # mean sideways displacement e_x . (a cos e_r + b sin e_theta) over the body
             lagrangian += mctx.kin.integral(shift * mctx.kin.sideways_displacement)
         states = list(mctx.states.values())
+        # the multipliers of the mode: the perturbations of the field multipliers the terms
+        # declare (a mixed pressure) and the translation's; global ones do not couple to n >= 1
+        declared = {n for t in self.terms for n in getattr(t, "multipliers", ())} | {"translation"}
+        multipliers = global_dofs(s for n, s in mctx.states.items() if n in declared)
         blocks = []
         for si in states:
             row = []
@@ -160,8 +165,6 @@ class ModeAnalysis:
                 block = ufl.algorithms.expand_derivatives(block)
                 row.append(None if block.empty() else block)
             blocks.append(row)
-        multipliers = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.index_map_bs
-                          for s in states[1:])
         return {"forms": fem.form(blocks), "space": V, "multipliers": multipliers,
                 "nodes": V.tabulate_dof_coordinates()}
 

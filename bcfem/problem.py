@@ -22,14 +22,9 @@ class Problem:
 
     Args:
         ctx: the context; its states are collected after the energies are built.
-        terms: energy terms, each with ``energy(ctx)`` (a UFL form), or discrete terms
-            (``is_discrete``, e.g. self-contact) that add their residual and tangent to the
-            assembled system: ``bind(problem)``, ``add_residual(b)``, ``add_jacobian(A)``,
-            and optionally ``begin_solve()``, called before each Newton solve, and
-            ``inadmissible()``, a message if the converged state is unphysical (the solve
-            then fails), else None, and ``step_bound(x, y)``, the largest fraction t <= 1 of
-            Newton's update x - y that keeps the state admissible (used once
-            :meth:`bound_steps` is called).
+        terms: :class:`~bcfem.protocols.Term` s, whose energies are summed, and
+            :class:`~bcfem.protocols.DiscreteTerm` s (e.g. self-contact), which add their
+            residual and tangent to the assembled system.
         bcs: Dirichlet conditions on the displacement.
         prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
         petsc_options: scene defaults, layered over bcfem's (the user's win).
@@ -59,6 +54,9 @@ class Problem:
         self.bcs = list(bcs)
         self.names = list(ctx.states)
         self.states = [ctx.states[n] for n in self.names]
+        #: the Lagrange-multiplier states the terms declare, in state order; a state whose
+        #: row is replaced (an arc-length load) is no multiplier of this problem
+        self.multipliers = _multipliers(self.terms, self.names, rows)
         scaled = inverse_scale * self.lagrangian
         residuals = [(rows[n] if isinstance(rows[n], ufl.Form) else rows[n](scaled)) if n in rows else
                      ufl.derivative(scaled, s, ufl.TestFunction(s.function_space))
@@ -85,6 +83,7 @@ class Problem:
         #: Newton steps shortened by :meth:`bound_steps`
         self.bounded_steps = 0
         self._tangent_ksp = None
+        self._bounds: tuple[PETSc.Vec, ...] = ()
         for term in self.discrete:
             term.bind(self)
         if self.discrete:
@@ -134,6 +133,13 @@ class Problem:
         self.functions_from(v, functions)
         v.destroy()
         return np.rint(functions[self.names.index(name)].x.array).astype(np.int64)
+
+    def global_size(self, names) -> int:
+        """The global number of dofs (block size included) of the states ``names``."""
+        unknown = [n for n in names if n not in self.names]
+        if unknown:
+            raise ValueError(f"no state {unknown[0]!r} in this problem (states: {', '.join(self.names)})")
+        return global_dofs(self.state(n) for n in names)
 
     def constrained(self, name: str) -> np.ndarray:
         """A mask of the local (unrolled) dofs of state ``name`` held by a Dirichlet condition."""
@@ -212,7 +218,7 @@ class Problem:
         ok = self.reason > 0 and np.isfinite(x.norm()) and not self._critical_point_exit()
         # vinewtonrsls tests convergence on the reduced norm it reports, so only other VI
         # types need the norm recomputed
-        if ok and self.iterations == 0 and getattr(self, "_bounds", ()) and self.snes.getType() != "vinewtonrsls":
+        if ok and self.iterations == 0 and self._bounds and self.snes.getType() != "vinewtonrsls":
             self._check_vi_start(x)
         self.inadmissible = None
         if ok:
@@ -250,10 +256,12 @@ class Problem:
         self.iterations = self.snes.getIterationNumber()
 
     def _critical_point_exit(self) -> bool:
-        """PETSc's cp line search reports CONVERGED_FNORM_ABS when dot(F, Y) ~ 0 for the
-        Newton step Y, and returns with the state and its norm unchanged. With an indefinite
-        tangent (past a limit point) dot(F, Y) vanishes away from equilibria too (seen in a
-        reinforced crater at closure: norm 4e-5), so that exit is no convergence."""
+        """Whether the solve ended at an exit of PETSc's cp line search that is no convergence.
+
+        cp reports CONVERGED_FNORM_ABS when dot(F, Y) ~ 0 for the Newton step Y, and returns
+        with the state and its norm unchanged. With an indefinite tangent (past a limit point)
+        dot(F, Y) also vanishes where F does not, so that exit is convergence only when the
+        norm itself meets ``snes_atol``."""
         return (self.reason == PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
                 and self.snes.getFunctionNorm() >= self.snes.getTolerances()[1])
 
@@ -278,6 +286,11 @@ class Problem:
                 f"off the bounds is {norm:.3e} > snes_atol = {atol:.1e}: this SNES type does not "
                 f"handle these bounds; use -{self.prefix}snes_type vinewtonrsls")
 
+    @property
+    def bounds(self) -> tuple[PETSc.Vec, ...]:
+        """(lower, upper) as blocked vectors once :meth:`set_bounds` was called, else ()."""
+        return self._bounds
+
     def set_bounds(self, lower, upper) -> None:
         """Variable bounds for a variational-inequality SNES (e.g. ``vinewtonrsls``):
         one function per state for each side (use +-1e20 where unbounded)."""
@@ -293,7 +306,7 @@ class Problem:
         if self._tangent_ksp is not None:
             self._tangent_ksp.destroy()
             self._tangent_ksp = None
-        for vec in getattr(self, "_bounds", ()):
+        for vec in self._bounds:
             vec.destroy()
         self._bounds = ()
         if self._nlp is not None:
@@ -344,3 +357,19 @@ class Problem:
         y = rhs.duplicate()
         self._tangent_ksp.solve(rhs, y)
         return y
+
+
+def _multipliers(terms, names: list[str], rows: dict) -> tuple[str, ...]:
+    """The multiplier states the terms declare (``multipliers``, none if absent), in the
+    order of ``names``; each must be a state."""
+    declared = {n for t in terms for n in getattr(t, "multipliers", ())}
+    missing = declared.difference(names)
+    if missing:
+        raise ValueError(f"terms declare the multipliers {sorted(missing)}, which no term's energy created")
+    return tuple(n for n in names if n in declared and n not in rows)
+
+
+def global_dofs(functions) -> int:
+    """The global number of dofs (block size included) of ``functions``, on every rank."""
+    return sum(f.function_space.dofmap.index_map.size_global * f.function_space.dofmap.index_map_bs
+               for f in functions)

@@ -22,7 +22,12 @@ from bcfem.mpi import global_sum
 
 
 class Viscosity:
-    """The proximal term (c/2) ∫ |u - u_prev|² dV; c = 0 (off) unless relaxing."""
+    """The proximal term (c/2) ∫ |u - u_prev|² dV; c = 0 (off) unless relaxing.
+
+    The viscosity c is the run-time constant ``viscosity``; no states are added."""
+
+    name = "viscosity"
+    multipliers = ()
 
     def __init__(self, u: fem.Function):
         self.previous = fem.Function(u.function_space, name="previous_displacement")

@@ -81,7 +81,8 @@ def gap_derivatives(p, a, b):
 
 
 class WallSelfContact:
-    """Penalty self-contact of the boundary part ``boundary`` (a facet tag).
+    """Penalty self-contact of the boundary part ``boundary`` (a facet tag): a
+    :class:`bcfem.protocols.DiscreteTerm` with every hook.
 
     Args:
         facet_tags: the mesh's facet tags.
@@ -92,6 +93,7 @@ class WallSelfContact:
     """
 
     is_discrete = True
+    name = "self_contact"
 
     def __init__(self, facet_tags, boundary: int, modulus: float, penalty: float = 1e3, depth: float = 0.25):
         require(modulus > 0, f"self-contact modulus must be > 0 (got {modulus})")
@@ -279,13 +281,22 @@ class WallSelfContact:
         return (f"the boundary passes through itself near (r, z) = ({r:.4g}, {z:.4g}), "
                 f"{depth[worst]:.2f} segment lengths deep (the self-contact acts to {self.depth:g})")
 
+    def _stiffness(self, P: np.ndarray, S: np.ndarray) -> np.ndarray:
+        """k w_p of each pair (node P, segment S)."""
+        return self.penalty * self.modulus / self.segment_length[S] * self.weight[P]
+
+    def penalty_energy(self) -> float:
+        """Π_c at the current states, over the pairs the residual sees (unscaled; on
+        every rank, collective)."""
+        P, S, g = self.pairs(self._positions())
+        return self.comm.allreduce(float(np.sum(0.5 * self._stiffness(P, S) * g**2)), op=MPI.SUM)
+
     def _contributions(self, with_hessian: bool):
         x = self._positions()
         P, S, g = self.pairs(x)
         self.active = self.comm.allreduce(len(P), op=MPI.SUM)
-        for p, s, gp in zip(P, S, g):
+        for p, s, gp, k in zip(P, S, g, self._stiffness(P, S)):
             a, b = self.segments[s]
-            k = self.penalty * self.modulus / self.segment_length[s] * self.weight[p]
             grad, hess = gap_derivatives(x[p], x[a], x[b])
             rows = self.rows[[p, a, b]].reshape(-1)
             free = ~self.fixed[[p, a, b]].reshape(-1)

@@ -21,11 +21,19 @@ import numpy as np
 from petsc4py import PETSc
 
 
-def unstable_modes(problem, multipliers: list[str], active_tol: float = 1e-9) -> int:
-    """Number of unstable directions at the current (converged) state of ``problem``."""
+def unstable_modes(problem, multipliers: list[str] | None = None, active_tol: float = 1e-9) -> int:
+    """Number of unstable directions at the current (converged) state of ``problem``.
+
+    Args:
+        multipliers: names of the multiplier states to subtract (those not in the problem
+            are skipped); default: the ones its terms declare, ``problem.multipliers``.
+        active_tol: relative distance from a bound within which an unknown is held there.
+    """
+    if multipliers is None:
+        multipliers = problem.multipliers
     jacobian, x = problem.jacobian()
     A = jacobian.copy()
-    bounds = getattr(problem, "_bounds", ())
+    bounds = problem.bounds
     if bounds:
         lower, upper = (b.array for b in bounds)
         at_bound = (np.abs(x.array - lower) <= active_tol * np.maximum(1.0, np.abs(lower))) | \
@@ -37,10 +45,7 @@ def unstable_modes(problem, multipliers: list[str], active_tol: float = 1e-9) ->
         negative = negative_eigenvalues(A, problem.prefix + "inertia_")
     finally:
         A.destroy()
-    constraints = sum(problem.state(n).function_space.dofmap.index_map.size_global
-                      * problem.state(n).function_space.dofmap.index_map_bs
-                      for n in multipliers if n in problem.names)
-    return int(negative) - constraints
+    return int(negative) - problem.global_size([n for n in multipliers if n in problem.names])
 
 
 def negative_eigenvalues(A: PETSc.Mat, prefix: str) -> int:

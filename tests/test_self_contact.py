@@ -13,6 +13,7 @@ from bcfem.energies import SolidStrain
 from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.mpi import global_sum
 from bcfem.problem import Problem
+from bcfem.protocols import DiscreteTerm, Term, find_term
 from bcfem.self_contact import WallSelfContact, gap, gap_derivatives
 from bcfem.solid import AxisymmetricSolid
 from helpers import exact_nominal_stress
@@ -21,6 +22,12 @@ RADIUS, LOWER, SLOT, UPPER = 1.0, 1.0, 0.05, 1.5
 SIZES = (0.25, 0.18)  # the two blocks' meshes do not match at the contact
 KAPPA, PENALTY = 1e4, 3e2
 CONTACT, AXIS, BOTTOM, TOP, OTHER = 10, 11, 12, 13, 14
+
+
+def test_self_contact_is_a_discrete_term():
+    term = WallSelfContact.__new__(WallSelfContact)
+    assert isinstance(term, DiscreteTerm) and not isinstance(term, Term)
+    assert term.is_discrete and term.name == "self_contact"
 
 
 def test_gap_derivatives_match_finite_differences():
@@ -82,17 +89,15 @@ def stacked_blocks(comm):
     return data
 
 
-def press(shortening: float, comm=MPI.COMM_WORLD):
-    """The top moves down by SLOT + shortening: the slot closes and both blocks are compressed
-    through the contact alone. Returns (nominal stress at the top, stretch of each block,
-    the slot's gap, pairs in contact, Newton iterations)."""
+def slot_model(comm, material, top_shift: float):
+    """The stacked blocks: (context, self-contact term, terms, Dirichlet conditions: the axis,
+    the bottom, and the top moved by ``top_shift`` in z)."""
     data = stacked_blocks(comm)
     msh, facets = data.mesh, data.facet_tags
     V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
     u = fem.Function(V, name="displacement")
     ctx = Context(u, AxisymmetricSolid(u, quadrature_degree=4, facet_tags=facets))
     contact = WallSelfContact(facets, CONTACT, modulus=1.0, penalty=PENALTY)
-    terms = [SolidStrain(NearlyIncompressibleNeoHookean(mu=1.0, kappa=KAPPA)), contact]
 
     def on(sub, tag, value=0.0):
         space, _ = V.sub(sub).collapse()
@@ -100,7 +105,18 @@ def press(shortening: float, comm=MPI.COMM_WORLD):
         g.x.array[:] = value
         return fem.dirichletbc(g, fem.locate_dofs_topological((V.sub(sub), space), 1, facets.find(tag)), V.sub(sub))
 
-    bcs = [on(0, AXIS), on(1, BOTTOM), on(1, TOP, -(SLOT + shortening))]
+    bcs = [on(0, AXIS), on(1, BOTTOM), on(1, TOP, top_shift)]
+    return ctx, contact, [SolidStrain(material), contact], bcs
+
+
+def press(shortening: float, comm=MPI.COMM_WORLD):
+    """The top moves down by SLOT + shortening: the slot closes and both blocks are compressed
+    through the contact alone. Returns (nominal stress at the top, stretch of each block,
+    the slot's gap, pairs in contact, Newton iterations)."""
+    ctx, contact, terms, bcs = slot_model(comm, NearlyIncompressibleNeoHookean(mu=1.0, kappa=KAPPA),
+                                          -(SLOT + shortening))
+    u = ctx.u
+    V = u.function_space
     top = LOWER + SLOT + UPPER
     # start from a homogeneous guess with the slot just closed (1e-3 overlap), so that
     # Newton starts in contact
@@ -112,7 +128,7 @@ def press(shortening: float, comm=MPI.COMM_WORLD):
     with Problem(ctx, terms, bcs, "bcfem_test_self_contact_", {"snes_linesearch_type": "cp"}) as problem:
         assert problem.solve(), problem.reason
         iterations = problem.iterations
-        energy = terms[0].energy(ctx)
+        energy = find_term(terms, SolidStrain).energy(ctx)
         w = fem.Function(V)  # 1 on the top, 0 on the contact faces and the lower block
         w.interpolate(lambda x: np.vstack([0 * x[0], np.clip((x[1] - LOWER - SLOT) / UPPER, 0, None)]))
         force = global_sum(fem.form(ufl.derivative(energy, u, w)))
@@ -244,3 +260,77 @@ def test_the_step_is_bounded_to_keep_the_wall_admissible():
     assert t < 1 and at_t and not at_twice
     # the same on every rank count: every rank sees the whole boundary and the whole step
     assert t == bounded_step(MPI.COMM_SELF)[0]
+
+
+# -- the assembled penalty: a Taylor test through the problem --------------------------------
+OVERLAP, ENERGY_SCALE = 5e-3, 2.5
+
+
+def overlapping(comm):
+    """The stacked blocks with the upper one moved down through the slot by OVERLAP, and
+    stretched radially unlike the lower one (0.99 and 1.013), so that no node of one face lies
+    at a segment end of the other and a small perturbation keeps every pair. The solid is
+    so soft (mu = 1e-6) that the remainders are the contact's. Returns the problem (Dirichlet
+    conditions as in :func:`press`, energy_scale 2.5), the contact, the energy (scaled like
+    the residual), and a perturbation of the displacement held at zero on Dirichlet dofs."""
+    shift = -(SLOT + OVERLAP)
+    ctx, contact, terms, bcs = slot_model(comm, NearlyIncompressibleNeoHookean(mu=1e-6, kappa=1e-3), shift)
+    u = ctx.u
+    V = u.function_space
+    problem = Problem(ctx, terms, bcs, "bcfem_test_self_contact_taylor_", energy_scale=ENERGY_SCALE)
+    upper = lambda x: x[1] > LOWER + SLOT / 2  # noqa: E731
+    u.interpolate(lambda x: np.vstack([np.where(upper(x), 0.013, -0.01) * x[0], np.where(upper(x), shift, 0.0)]))
+    contact.begin_solve()  # who faces whom, frozen as in a Newton solve
+    du = fem.Function(V)
+    du.interpolate(lambda x: np.vstack([0.5 * x[0] * np.cos(3 * x[1]), 0.4 * np.sin(2 * x[0] + x[1])]))
+    du.x.array[problem.constrained("displacement")] = 0.0
+    pressure = fem.Function(ctx.states["solid_pressure"].function_space)
+    dx = problem.vector_from([du, pressure])
+    strain_energy = fem.form(problem.lagrangian)
+
+    def energy():
+        return (global_sum(strain_energy) + contact.penalty_energy()) / ENERGY_SCALE
+
+    return problem, contact, energy, dx
+
+
+def contact_taylor(comm):
+    from test_terms import taylor
+
+    problem, contact, energy, dx = overlapping(comm)
+    with problem:
+        pairs = lambda: sorted(map(tuple, comm.allgather(  # noqa: E731
+            [(p, s) for p, s in zip(*contact.pairs(contact._positions())[:2])])))
+        before = pairs()
+        result = taylor(problem, energy, dx, eps0=1e-3, observe=pairs)
+        # the residual's Dirichlet rows hold x - g = 0: the contact adds nothing there
+        start, _ = dx.getOwnershipRange()
+        held = problem.global_indices("displacement")[problem.constrained("displacement")]
+        owned = held[(held >= start) & (held < start + dx.getLocalSize())] - start
+        result["dirichlet_rows"] = comm.allreduce(float(np.max(np.abs(result["residual"][owned]), initial=0.0)),
+                                                  op=MPI.MAX)
+        result["pairs"], result["active"] = before, contact.active
+        dx.destroy()
+    return result
+
+
+@pytest.mark.mpi
+def test_assembled_contact_residual_and_tangent_are_derivatives():
+    """With pairs in contact, the residual the problem assembles (forms plus the contact's
+    free rows, scaled by 1/energy_scale) is the derivative of the scaled energy, and its
+    tangent that of the residual: remainders O(e^2). Under mpirun the pairs span ranks,
+    and the numbers are those of one rank."""
+    from test_terms import assert_second_order
+
+    result = contact_taylor(MPI.COMM_WORLD)
+    assert result["active"] > 10
+    assert all(seen == result["pairs"] for seen in result["seen"])  # no pair switched on or off
+    # the contact dominates: its energy is most of the total
+    assert result["energy"] > 1e-4
+    assert_second_order(result)
+    assert result["dirichlet_rows"] < 1e-12
+    if MPI.COMM_WORLD.size > 1:
+        alone = contact_taylor(MPI.COMM_SELF)
+        assert alone["active"] == result["active"]
+        for key in ("energy", "dE", "F", "Jdx"):
+            assert result[key] == pytest.approx(alone[key], rel=1e-9), key

@@ -7,7 +7,9 @@ import math
 import pytest
 from mpi4py import MPI
 
+from bcfem.energies import MembraneStrain
 from bcfem.problem import Problem
+from bcfem.protocols import find_term
 from bcfem.scenes import blister_rigid
 from bcfem.stability import unstable_modes
 from bcfem.volume_control import VolumeControl
@@ -34,12 +36,16 @@ def test_inertia_finds_the_pressure_maximum(v_over_v0, unstable_under_pressure):
     scene.start()
     volume = Problem(scene.ctx, scene.terms, scene.bcs, scene.prefix, scene.petsc_options)
     VolumeControl(scene.ctx).solve_to(volume, v_over_v0 * 4 * math.pi / 3)
-    assert unstable_modes(volume, ["pressure"]) == 0  # volume control: always stable
+    # the pressure is the multiplier of the volume constraint: PressureVolume says so
+    assert volume.multipliers == ("pressure",)
+    assert unstable_modes(volume) == unstable_modes(volume, ["pressure"]) == 0  # volume control: always stable
     pressure = scene.ctx.states["pressure"].x.array[0]
-    strain = [t for t in scene.terms if type(t).__name__ == "MembraneStrain"]
-    dead = Problem(scene.ctx, [*strain, DeadPressure(pressure)], scene.bcs, "dead_", scene.petsc_options)
+    strain = find_term(scene.terms, MembraneStrain)
+    dead = Problem(scene.ctx, [strain, DeadPressure(pressure)], scene.bcs, "dead_", scene.petsc_options)
     # the same state is an equilibrium of the pressure-controlled problem (same u-residual);
-    # its unused "pressure" unknown only adds a null pivot, not a negative one
-    assert unstable_modes(dead, []) == unstable_under_pressure
+    # its unused "pressure" unknown only adds a null pivot, not a negative one, and no term
+    # declares it a multiplier
+    assert dead.multipliers == ()
+    assert unstable_modes(dead) == unstable_under_pressure
     dead.close()
     volume.close()

@@ -28,6 +28,7 @@ from bcfem.kinematics import AxisymmetricMembrane
 from bcfem.materials import MATERIALS, Gent, NeoHookean
 from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, global_sum, real_value, sample
 from bcfem.params import ContinuationParams, require
+from bcfem.protocols import find_term
 from bcfem.continuation import Switch
 from bcfem.scene import Scene
 from bcfem.scenes.membrane_edges import EDGES, domain
@@ -258,7 +259,7 @@ def observables(ctx, terms):
         release = fem.form(ufl.derivative(sum(t.energy(ctx) for t in terms), R1, one))
     degree = ctx.u.function_space.element.basix_element.degree
     I1 = cell_maximum(ctx.mesh, kin.I1 - 3, degree)
-    _, hoop = terms[0].tractions(ctx)  # the membrane strain is the first term
+    _, hoop = find_term(terms, MembraneStrain).tractions(ctx)
     hoop_compression = cell_maximum(ctx.mesh, -hoop, degree)
 
     def observe() -> dict:
@@ -328,7 +329,7 @@ def profile(scene, samples: int = 201) -> dict:
     """
     ctx = scene.ctx
     kin = ctx.kin
-    N_r, N_t = scene.terms[0].tractions(ctx)
+    N_r, N_t = find_term(scene.terms, MembraneStrain).tractions(ctx)
     degree = ctx.u.function_space.element.basix_element.degree
     W = fem.functionspace(ctx.mesh, ("DG", degree, (5,)))
     fields = fem.Function(W)

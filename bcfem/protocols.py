@@ -1,0 +1,143 @@
+r"""The contracts between terms, kinematics and the problem builder, as typed protocols.
+
+A model is a list of terms. Most are :class:`Term` s: a scalar UFL energy that
+:class:`bcfem.problem.Problem` sums and differentiates. A few effects are not
+one form (self-contact couples boundary nodes far apart in the mesh): they are
+:class:`DiscreteTerm` s, which add their residual and tangent to the assembled
+system. Both are structural (``typing.Protocol``): a term conforms by having
+the members, not by inheriting from these classes. A member that a protocol
+gives a default for may be left out; the problem then uses that default.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Iterable, Protocol, TypeVar, runtime_checkable
+
+if TYPE_CHECKING:
+    import ufl
+    from petsc4py import PETSc
+
+    from bcfem.context import Context
+    from bcfem.problem import Problem
+
+
+@runtime_checkable
+class Kinematics(Protocol):
+    """What every kinematics offers the terms: the one integral that applies the
+    axisymmetric weight 2πR. The quantities a term reads (``I1``, ``J``,
+    ``volume_density``, ``nanson()``, ...) depend on the body (membrane or solid)
+    and are documented on the concrete classes."""
+
+    def integral(self, density, region: int | None = None) -> ufl.Form:
+        """``density`` (per unit reference area or volume) integrated over the
+        reference body, or over the cells tagged ``region``."""
+        ...
+
+
+@runtime_checkable
+class Term(Protocol):
+    r"""A physical effect as an energy: the problem's residual and tangent are its
+    derivatives (never written by hand)."""
+
+    @property
+    def name(self) -> str:
+        """Identifies the term in messages and look-ups. A term with a run-time
+        constant is named after it, so that two terms of one class (a wetted blister
+        and a wetted film) are told apart."""
+        ...
+
+    @property
+    def multipliers(self) -> tuple[str, ...]:
+        """Names of the states the term creates that are Lagrange multipliers (default
+        none): unknowns whose row is a constraint or an equation of state, such as a
+        mixed solid pressure or a sealed fluid's pressure.
+
+        Each multiplier dof adds one negative eigenvalue to the Hessian of the
+        Lagrangian whatever the stability of the body, so
+        :func:`bcfem.stability.unstable_modes` subtracts them (Sylvester's law).
+        A state that is a real unknown of the energy (a debond radius) is none, and a
+        problem that replaces a multiplier's row (an arc-length load) no longer counts it
+        (``Problem.multipliers``).
+        """
+        return ()
+
+    def energy(self, ctx: Context) -> ufl.Form:
+        """The term's energy as one scalar UFL form in the reference configuration.
+
+        Touches only ``ctx``: its kinematics ``ctx.kin``, its states (created on
+        first request with ``ctx.real_state`` or ``ctx.field_state``) and its run-time
+        constants (``ctx.constant``, so that the form compiles once). May be called
+        more than once, also with another context (a Fourier mode's,
+        :mod:`bcfem.modes`).
+        """
+        ...
+
+
+@runtime_checkable
+class DiscreteTerm(Protocol):
+    """An effect that is not one UFL form: it adds its residual and tangent to the
+    system the problem assembles from the forms. It is marked ``is_discrete = True``
+    and has no ``energy``.
+
+    The hooks :meth:`begin_solve`, :meth:`inadmissible` and :meth:`step_bound` are
+    optional: a term without one behaves as the default documented here."""
+
+    @property
+    def is_discrete(self) -> bool:
+        """True: tells the problem not to ask for an energy."""
+        ...
+
+    def bind(self, problem: Problem) -> None:
+        """Set up once, when ``problem`` is built (after its forms): find the term's
+        unknowns (``problem.global_indices``, ``problem.constrained``), keep
+        ``problem.inverse_scale`` to scale like the forms, and call
+        ``problem.allow_new_nonzeros()`` if it adds entries outside their sparsity."""
+        ...
+
+    def add_residual(self, b: PETSc.Vec) -> None:
+        """Add the term's residual (scaled by ``problem.inverse_scale``) to the
+        assembled residual ``b``, at the states the problem's functions hold. Rows
+        of Dirichlet dofs hold their own equation and get nothing. Collective."""
+        ...
+
+    def add_jacobian(self, A: PETSc.Mat) -> None:
+        """Add the derivative of :meth:`add_residual` to the assembled tangent ``A``
+        (free rows and columns only), and assemble ``A``. Collective."""
+        ...
+
+    def begin_solve(self) -> None:
+        """Called before each Newton solve, e.g. to freeze a choice that must not
+        change between iterates. Default: nothing."""
+        return None
+
+    def inadmissible(self) -> str | None:
+        """Why the converged state is unphysical (the solve then fails like any
+        other), or None. Default: None, every state is admissible."""
+        return None
+
+    def step_bound(self, x: PETSc.Vec, y: PETSc.Vec) -> float:
+        """The largest fraction t <= 1 of Newton's update x - y (states x, step y)
+        that keeps the state admissible; used once ``problem.bound_steps()`` is
+        called. Default: 1, no bound."""
+        return 1.0
+
+
+T = TypeVar("T")
+
+
+def find_term(terms: Iterable, kind: type[T]) -> T:
+    """The one term of class ``kind`` (or a subclass) in ``terms``.
+
+    Observables use this instead of a position in the list, which reordering
+    would silently change.
+
+    Raises:
+        LookupError: when there is none, or more than one.
+    """
+    terms = list(terms)
+    found = [t for t in terms if isinstance(t, kind)]
+    if len(found) != 1:
+        names = ", ".join(type(t).__name__ for t in terms) or "none"
+        raise LookupError(f"expected exactly one {kind.__name__} among the terms, found {len(found)} "
+                          f"(terms: {names})")
+    return found[0]
