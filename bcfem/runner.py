@@ -82,8 +82,7 @@ class Run:
         """The problem of ``stage`` (closed by :meth:`close` or :meth:`stage`)."""
         problem = Problem(ctx, terms, bcs, self.prefix(stage), petsc_options, **kwargs)
         self.petsc_options.update({problem.prefix + k: str(v) for k, v in problem.options.items()})
-        self.dofs = max(self.dofs, sum(s.function_space.dofmap.index_map.size_global
-                                       * s.function_space.dofmap.index_map_bs for s in problem.states))
+        self.dofs = max(self.dofs, problem.global_size(problem.names))
         self._problems.append(problem)
         return problem
 

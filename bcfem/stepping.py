@@ -57,7 +57,8 @@ class LoadPath:
         load_name: the load's name in events (e.g. ``eps``, a platen strain).
         viscosity: the problem's Viscosity term (None: no relaxation).
         relax_stiffness: initial viscosity c of a relaxation.
-        multipliers: names of multiplier states, for the stability count.
+        multipliers: names of multiplier states, for the stability count (None: the ones
+            the problem's terms declare).
         cuts: halvings before giving up; cuts_before_relax: before relaxing.
         max_snaps: relaxations allowed along the path (a crease that keeps deepening
             would otherwise snap again at every step).
@@ -71,7 +72,7 @@ class LoadPath:
     stage: str
     viscosity: Viscosity | None = None
     relax_stiffness: float = 1.0
-    multipliers: list = field(default_factory=list)
+    multipliers: list | None = None
     cuts: int = 12
     cuts_before_relax: int = 3
     check_stability: bool = True

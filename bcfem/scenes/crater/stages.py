@@ -43,8 +43,6 @@ LINE_SEARCH_FALLBACKS = ("bt", "cp")
 #: the retrace's default Newton budget: steps bounded to keep the wall admissible converge
 #: more slowly than full ones
 CAREFUL = {"snes_max_it": 80}
-#: the multiplier states of the crater's terms (the solid's pressure, the fluid's)
-MULTIPLIERS = ["solid_pressure", "fluid_pressure"]
 
 
 class CraterCycle:
@@ -90,7 +88,7 @@ class CraterCycle:
 
     def _path(self, problem, set_load, stage: str, events: list, waves) -> LoadPath:
         beta, a = self.params.beta, self.params.crater_radius
-        return LoadPath(problem, set_load, stage, self.model.viscosity, beta / a**2, MULTIPLIERS,
+        return LoadPath(problem, set_load, stage, self.model.viscosity, beta / a**2,
                         events=events, max_snaps=self.params.max_snaps, waves=waves, load_name="eps")
 
     def _cycle(self, run, careful: bool) -> None:
