@@ -1,16 +1,20 @@
-r"""Load paths: pseudo-arc-length continuation and volume (constraint) stepping.
+r"""Pseudo-arc-length continuation in a load parameter, with located folds and events.
 
-Arc-length: the load parameter :math:`\lambda` (a real-space state, e.g. the
+The load parameter :math:`\lambda` (a real-space state, e.g. the
 cavity pressure) gets the arc-length equation as its residual row,
 
-.. math:: \frac{1}{A}\int t_u\cdot(u - u_a)\,dA + t_\lambda(\lambda - \lambda_a) = 0,
+.. math:: \Big\langle \sum_i t_i\cdot(x_i - x_{a,i}) + t_\lambda(\lambda - \lambda_a) \Big\rangle = 0,
 
 a hyperplane through the predictor :math:`x_a = x_k + \sigma t_k` orthogonal
-to the unit tangent :math:`t_k` (the λ-part of the inner product is divided
-by ``load_scale``², omitted above). The norm is the reference-area mean, so
-the step is mesh independent. The row is one more real-space row in the blocked
-system, so Newton, step control and retries are ours and the linear algebra is
-PETSc's (MUMPS). The tangent at a converged point solves
+to the unit tangent :math:`t_k`. The states :math:`x_i` of the norm are
+declared (by default the displacement alone), each part divided by its scale
+squared (``load_scale`` for λ; omitted above), and
+:math:`\langle\cdot\rangle` is the mean over the reference body that the
+kinematics supply (:math:`\frac{1}{A}\int\cdot\,dA` for a membrane,
+:math:`\frac{1}{V}\int\cdot\,dV` for a solid), so the step is mesh
+independent. The row is one more real-space row in the blocked system, so
+Newton, step control and retries are ours and the linear algebra is PETSc's
+(MUMPS). The tangent at a converged point solves
 :math:`[F_x; t_{k-1}^T]\,\tau = e_\lambda`; its λ-component changes sign at a
 limit point, which is then located by Brent's method on the arc length,
 to ``event_tol``.
@@ -23,63 +27,26 @@ accepted; the step is halved and retried down to ``ds_min``, then
 from __future__ import annotations
 
 import math
+import operator
 import time
-from dataclasses import dataclass, field
-from typing import Callable
+from functools import reduce
+from typing import Callable, Mapping
 
 import numpy as np
 import ufl
 from dolfinx import fem
 
+from bcfem.branch import Branch, ContinuationError, LimitPoint, Switch
 from bcfem.log import progress
 from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
 
-
-class ContinuationError(RuntimeError):
-    """The continuation could not go on; the message says where and why."""
-
-
-@dataclass
-class LimitPoint:
-    """A fold of the load parameter along the branch (dλ/ds = 0)."""
-
-    kind: str  # "max" or "min" of the load parameter
-    s: float
-    values: dict
+# the records of a branch live in bcfem.branch; they are importable from here too
+__all__ = ["ArcLength", "Branch", "ContinuationError", "LimitPoint", "Mean", "Switch"]
 
 
-@dataclass
-class Switch:
-    """A change of the model along the path, such as delamination onset.
-
-    When ``function(values)`` turns from negative to non-negative within a
-    step, the crossing is located to ``event_tol``, recorded, and ``action()``
-    is called there (e.g. it frees the debond radius); the path goes on from
-    that point with the new equations.
-    """
-
-    name: str
-    function: Callable[[dict], float]
-    action: Callable[[], None]
-    #: a state that must grow after the switch (e.g. the debond radius: no healing);
-    #: the new tangent is turned to make it grow
-    grows: str | None = None
-
-
-@dataclass
-class Branch:
-    """Converged points, in order along the path, with their observables."""
-
-    rows: list[dict] = field(default_factory=list)
-    limit_points: list[LimitPoint] = field(default_factory=list)
-    events: list[dict] = field(default_factory=list)
-    newton_iterations: int = 0
-    failed_steps: int = 0
-    wall_time_s: float = 0.0
-
-    def column(self, key: str) -> np.ndarray:
-        return np.array([row[key] for row in self.rows])
+#: the mean of a density over the reference body, as a form: (1/|B|) int_B density dB
+Mean = Callable[[ufl.core.expr.Expr], ufl.Form]
 
 
 class ArcLength:
@@ -88,54 +55,86 @@ class ArcLength:
     Build the problem with ``rows=arc.rows()`` so the parameter's residual is
     the arc-length equation, then call :meth:`trace`.
 
+    The arc length is measured in the norm
+
+    ``||x||^2 = mean(sum_i |x_i / scale_i|^2) + (lambda / load_scale)^2``
+
+    over the states ``x_i`` named in ``norm``. States left out (multipliers, a
+    debond radius, a mixed pressure) follow the path but do not measure it.
+
     Args:
-        ctx: the model context (must already hold the parameter state).
+        ctx: the model context (must already hold the parameter and the norm's states).
         parameter: name of the real-space state that acts as the load.
         params: step control.
-        load_scale: typical size of the load; the norm is
-            ``||x||^2 = (1/A) int |u|^2 dA + (lambda / load_scale)^2``, so steps
-            stay balanced when the load is large (e.g. a strong surface tension).
+        load_scale: typical size of the load, so that steps stay balanced when
+            the load is large (e.g. a strong surface tension).
+        norm: the states that measure the arc length, each with its typical size
+            (default: ``{"displacement": 1.0}``). Must not contain ``parameter``.
+        mean: the mean over the reference body of a density, as a form; it must be
+            linear in the density. Default: ``ctx.kin.mean`` (the reference-area mean
+            of a membrane, the reference-volume mean of a solid).
+
+    Example (a solid whose load is a platen displacement, a real-space state)::
+
+        arc = ArcLength(ctx, "platen_displacement", ContinuationParams(ds=0.01), load_scale=0.1)
+        problem = Problem(ctx, terms, bcs, "bcfem_crater_", rows=arc.rows())
+        arc.start(problem, 0.0)  # from a shaped guess in the displacement
+        branch = arc.trace(problem, observe, end)
     """
 
     def __init__(self, ctx, parameter: str = "pressure", params: ContinuationParams = ContinuationParams(),
-                 load_scale: float = 1.0):
+                 load_scale: float = 1.0, *, norm: Mapping[str, float] | None = None, mean: Mean | None = None):
         if not load_scale > 0:
             raise ValueError(f"load_scale must be > 0 (got {load_scale})")
+        norm = {"displacement": 1.0} if norm is None else dict(norm)
+        mean = mean if mean is not None else getattr(ctx.kin, "mean", None)
+        if mean is None:
+            raise ValueError(f"ctx.kin ({type(ctx.kin).__name__}) has no mean(density): pass mean=")
+        if not norm or parameter in norm:
+            raise ValueError(f"norm must name at least one state other than {parameter!r} (got {sorted(norm)})")
+        unknown = sorted(set(norm) - set(ctx.states))
+        if unknown:
+            raise ValueError(f"norm names states the context does not hold: {unknown} "
+                             f"(it holds {sorted(ctx.states)})")
+        if not all(scale > 0 for scale in norm.values()):
+            raise ValueError(f"the norm's scales must be > 0 (got {norm})")
         self.ctx = ctx
         self.params = params
         self.load_scale = float(load_scale)
         self.parameter = parameter
+        self.norm = {name: float(scale) for name, scale in norm.items()}
         lam = ctx.real_state(parameter)
-        u = ctx.u
-        V = u.function_space
-        self.t_u = fem.Function(V, name="tangent")
-        self.u_anchor = fem.Function(V, name="anchor")
+        fields = {name: ctx.states[name] for name in self.norm}
+        self._tangent_parts = {n: fem.Function(f.function_space, name=f"tangent_{n}") for n, f in fields.items()}
+        self._anchor_parts = {n: fem.Function(f.function_space, name=f"anchor_{n}") for n, f in fields.items()}
+        self._work = {n: fem.Function(f.function_space) for n, f in fields.items()}
         self.t_lam = fem.Constant(ctx.mesh, 0.0)
         self.lam_anchor = fem.Constant(ctx.mesh, 0.0)
-        kin, area = ctx.kin, ctx.kin.reference_area
         q = ufl.TestFunction(lam.function_space)
-        self._row = kin.integral((ufl.inner(self.t_u, u - self.u_anchor)
-                                  + self.t_lam * (lam - self.lam_anchor)) * q / area)
-        self._work = fem.Function(V)
-        self._norm2 = fem.form(kin.integral(ufl.inner(self._work, self._work) / area))
+        # the tangent parts hold t_i / scale_i^2, so the row is <t, x - x_a> in the scaled product
+        along = [ufl.inner(self._tangent_parts[n], fields[n] - self._anchor_parts[n]) for n in fields]
+        self._row = mean((reduce(operator.add, along) + self.t_lam * (lam - self.lam_anchor)) * q)
+        self._norm2 = fem.form(mean(reduce(operator.add, [ufl.inner(w, w) for w in self._work.values()])))
 
     def rows(self) -> dict:
         return {self.parameter: self._row}
 
     # -- vector helpers on lists of local arrays ------------------------------------------
-    def _index(self, problem) -> tuple[int, int]:
-        return problem.names.index("displacement"), problem.names.index(self.parameter)
+    def _index(self, problem) -> tuple[dict[str, int], int]:
+        """The positions in ``problem.states`` of the norm's states and of the parameter."""
+        return {n: problem.names.index(n) for n in self.norm}, problem.names.index(self.parameter)
 
-    def _norm(self, problem, vec: list[np.ndarray]) -> float:
-        iu, il = self._index(problem)
-        self._work.x.array[:] = vec[iu]
+    def _length(self, problem, vec: list[np.ndarray]) -> float:
+        parts, il = self._index(problem)
+        for name, i in parts.items():
+            self._work[name].x.array[:] = vec[i] / self.norm[name]
         return math.sqrt(global_sum(self._norm2) + (float(vec[il][0]) / self.load_scale) ** 2)
 
     def _set_hyperplane(self, problem, tangent, anchor) -> None:
-        iu, il = self._index(problem)
-        self.t_u.x.array[:] = tangent[iu]
-        self.u_anchor.x.array[:] = anchor[iu]
-        # the row is <t, x - x_a> in the scaled inner product
+        parts, il = self._index(problem)
+        for name, i in parts.items():
+            self._tangent_parts[name].x.array[:] = tangent[i] / self.norm[name] ** 2
+            self._anchor_parts[name].x.array[:] = anchor[i]
         self.t_lam.value = float(tangent[il][0]) / self.load_scale**2
         self.lam_anchor.value = float(anchor[il][0])
 
@@ -150,7 +149,7 @@ class ArcLength:
         rhs.destroy()
         y.destroy()
         tangent = [f.x.array.copy() for f in rhs_functions]
-        norm = self._norm(problem, tangent)
+        norm = self._length(problem, tangent)
         return [t / norm for t in tangent]
 
     def _oriented(self, problem, tangent, switch) -> list[np.ndarray]:
@@ -170,19 +169,22 @@ class ArcLength:
     def start(self, problem, value: float) -> None:
         """Converge the first point near the guess in the states, with load guess ``value``.
 
-        The row fixes the projection of u on the guess itself (displacement
-        control along the guessed shape), so the load is an unknown from the
-        start: this is better posed than a fixed load, which a guess of the
-        wrong amplitude, or an unstable or stress-free state, can defeat.
+        The row fixes the projection of the norm's states on the guess itself
+        (displacement control along the guessed shape), so the load is an
+        unknown from the start: this is better posed than a fixed load, which a
+        guess of the wrong amplitude, or an unstable or stress-free state, can
+        defeat.
         """
-        iu, il = self._index(problem)
+        parts, _ = self._index(problem)
         problem.state(self.parameter).x.array[:] = value
         guess = problem.save()
         direction = [np.zeros_like(g) for g in guess]
-        direction[iu][:] = guess[iu]
-        norm = self._norm(problem, direction)
+        for i in parts.values():
+            direction[i][:] = guess[i]
+        norm = self._length(problem, direction)
         if norm == 0:
-            raise ContinuationError("the start guess has zero displacement; give a shaped guess")
+            raise ContinuationError(f"the start guess is zero in the norm's states {sorted(self.norm)}; "
+                                    "give a shaped guess")
         self._start_row = ([d / norm for d in direction], guess)
         self.restart_row(problem)
         if not problem.solve():

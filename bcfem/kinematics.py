@@ -84,6 +84,14 @@ class AxisymmetricMembrane:
         dx = self._dx if region is None else self._dx(region)
         return density * 2 * ufl.pi * self.R * self.J * dx
 
+    def mean(self, density):
+        """The reference-area mean of ``density``, (1/A) int density dA, as a form.
+
+        E.g. ``mean(inner(a, b))`` is the mesh-independent inner product of two
+        displacements that measures arc length (:class:`bcfem.continuation.ArcLength`).
+        """
+        return self.integral(density / self.reference_area)
+
     @property
     def area_stretch(self):
         """Current area per reference area, lambda_r lambda_theta."""

@@ -12,7 +12,12 @@ the one place the weight 2πr is applied for solids.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import ufl
+from dolfinx import fem
+
+from bcfem.mpi import global_sum
 
 
 class AxisymmetricSolid:
@@ -60,6 +65,19 @@ class AxisymmetricSolid:
         """``density`` integrated over the reference body, dV = 2 pi r dA."""
         dx = self._dx if region is None else self._dx(region)
         return density * 2 * ufl.pi * self.x[0] * dx
+
+    @cached_property
+    def reference_volume(self) -> float:
+        """The body's reference volume, int dV (collective on first use)."""
+        return global_sum(fem.form(self.integral(1.0)))
+
+    def mean(self, density):
+        """The reference-volume mean of ``density``, (1/V) int density dV, as a form.
+
+        E.g. ``mean(inner(a, b))`` is the mesh-independent inner product of two
+        displacements that measures arc length (:class:`bcfem.continuation.ArcLength`).
+        """
+        return self.integral(density / self.reference_volume)
 
     def surface_integral(self, density, boundary: int):
         """``density`` integrated over the reference boundary part ``boundary``, dA = 2 pi r dS."""

@@ -1,6 +1,6 @@
-"""Volume control: step the volume constraint's target with the natural rows.
+"""Volume control: step a volume constraint's target with the natural rows.
 
-The counterpart of arc-length continuation when the volume, not the pressure,
+The counterpart of arc-length continuation when a volume, not the pressure,
 is prescribed: the pressure stays the Lagrange multiplier of the constraint.
 """
 
@@ -8,25 +8,38 @@ from __future__ import annotations
 
 from typing import Callable
 
+import ufl
 from dolfinx import fem
 
-from bcfem.continuation import ContinuationError
+from bcfem.branch import ContinuationError
 from bcfem.mpi import global_sum
 
 
 class VolumeControl:
-    """Step a constraint target (``volume_target``) with the natural rows.
+    """Step a constraint's target with the natural rows.
 
-    The problem must be built without replacement rows, so the pressure's row
-    is the volume constraint itself. A target is approached from the current
-    state's volume in sub-steps: a failed sub-step is halved, a converged one
-    lets the next grow, and nothing unconverged is ever kept.
+    The problem must be built without a replacement row for the constraint's
+    multiplier, so that its row is the constraint ``volume(u) = target``. A
+    target is approached from the current state's volume in sub-steps: a failed
+    sub-step is halved, a converged one lets the next grow, and nothing
+    unconverged is ever kept.
+
+    Args:
+        volume: the constrained volume as a scalar form of the states.
+        target: the run-time constant that the constraint's term holds the volume to.
+        min_step: the smallest sub-step, relative to ``max(1, |target|)``.
     """
 
-    def __init__(self, ctx, target: str = "volume_target", min_step: float = 1e-10):
-        self.target = ctx.constant(target)
-        self._volume = fem.form(ctx.kin.integral(ctx.kin.volume_density))
+    def __init__(self, volume: ufl.Form, target: fem.Constant, min_step: float = 1e-10):
+        self.target = target
+        self._volume = fem.form(volume)
         self.min_step = min_step
+
+    @classmethod
+    def membrane(cls, ctx, min_step: float = 1e-10) -> VolumeControl:
+        """The blister's: the volume enclosed by the membrane ``ctx.kin``, held by
+        :class:`bcfem.energies.PressureVolume` to its constant ``volume_target``."""
+        return cls(ctx.kin.integral(ctx.kin.volume_density), ctx.constant("volume_target"), min_step)
 
     def volume(self) -> float:
         return global_sum(self._volume)

@@ -88,7 +88,7 @@ def worker(case: dict) -> dict:
     if case["mode"] == "branch":  # P at the grid volumes, descending from V/V0 = 6
         t2 = time.perf_counter()
         vp = Problem(scene.ctx, scene.terms, scene.bcs, scene.prefix, scene.petsc_options)
-        vc = VolumeControl(scene.ctx)
+        vc = VolumeControl.membrane(scene.ctx)
         P = {}
         for v in reversed(GRID):
             vc.solve_to(vp, v * blister_rigid.V0)

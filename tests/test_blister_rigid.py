@@ -60,7 +60,7 @@ def test_limit_point_is_a_true_maximum(neo_hookean):
     scene, branch = neo_hookean
     lp = branch.limit_points[0].values
     problem = volume_problem(scene)
-    control = VolumeControl(scene.ctx)
+    control = VolumeControl.membrane(scene.ctx)
     d = 2e-3
     v0 = 4 * math.pi / 3
     drops = []
@@ -74,7 +74,7 @@ def test_limit_point_is_a_true_maximum(neo_hookean):
 def test_volume_control_equals_arc_length(gent):
     scene, branch = gent
     problem = volume_problem(scene)
-    control = VolumeControl(scene.ctx)
+    control = VolumeControl.membrane(scene.ctx)
     v0 = 4 * math.pi / 3
     rows = branch.rows[1::4]
     for row in rows:
@@ -90,7 +90,7 @@ def test_small_volume_limit_is_foppl_hencky():
     params = blister_rigid.Params(material="neo-hookean", cells=200, degree=2, v_start=0.002)
     scene = blister_rigid.build(params, MPI.COMM_WORLD)
     problem = volume_problem(scene)
-    control = VolumeControl(scene.ctx)
+    control = VolumeControl.membrane(scene.ctx)
     scene.start()
     v0 = 4 * math.pi / 3
     volumes = [0.08, 0.04, 0.02, 0.01, 0.005]

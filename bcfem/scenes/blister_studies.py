@@ -49,7 +49,7 @@ def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float
     scene.start()
     with Problem(ctx, scene.terms, scene.bcs, scene.prefix, scene.petsc_options, rows=scene.rows,
                  energy_scale=scene.load_scale) as problem:
-        control = VolumeControl(ctx)
+        control = VolumeControl.membrane(ctx)
         energy = fem.form(sum(t.energy(ctx) for t in scene.terms))
 
         def helmholtz(v, radius):
