@@ -16,8 +16,9 @@ def require(condition: bool, message: str) -> None:
 class ContinuationParams:
     """Pseudo-arc-length step control.
 
-    The arc length is measured in the mesh-independent norm
-    ``||x||^2 = (1/A) int |u|^2 dA + lambda^2`` (A the reference area), so the
+    The arc length is measured in a mesh-independent norm, the mean over the
+    reference body of the squared states that measure it plus the squared load,
+    each over its typical size (:class:`bcfem.continuation.ArcLength`), so the
     same steps work on every mesh.
 
     Attributes:
