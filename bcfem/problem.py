@@ -21,7 +21,9 @@ class Problem:
     """A blocked nonlinear problem over all states of a context.
 
     Args:
-        ctx: the context; its states are collected after the energies are built.
+        ctx: the context; its states are collected after the energies are built. States
+            on another mesh (a field on a boundary submesh) are assembled through the
+            context's entity maps.
         terms: energy terms, each with ``energy(ctx)`` (a UFL form), or discrete terms
             (``is_discrete``, e.g. self-contact) that add their residual and tangent to the
             assembled system: ``bind(problem)``, ``add_residual(b)``, ``add_jacobian(A)``,
@@ -30,7 +32,7 @@ class Problem:
             then fails), else None, and ``step_bound(x, y)``, the largest fraction t <= 1 of
             Newton's update x - y that keeps the state admissible (used once
             :meth:`bound_steps` is called).
-        bcs: Dirichlet conditions on the displacement.
+        bcs: Dirichlet conditions on any state (also on a state on a submesh).
         prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
         petsc_options: scene defaults, layered over bcfem's (the user's win).
         rows: replacement residuals, keyed by state name: a UFL form, or a callable
@@ -68,7 +70,7 @@ class Problem:
         before = options.keys_under(prefix)
         self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
                                      petsc_options_prefix=prefix, petsc_options=self.options,
-                                     jit_options=jit_options)
+                                     jit_options=jit_options, entity_maps=ctx.entity_maps or None)
         options.forget_new(prefix, before)
         self.snes: PETSc.SNES = self._nlp.solver
         self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
