@@ -25,6 +25,7 @@ import functools
 import math
 from dataclasses import dataclass, field
 
+import bcfem  # noqa: F401  (first: MPI before dolfinx, when run as a script)
 import basix.ufl
 import numpy as np
 import pytest
@@ -361,14 +362,19 @@ def taylor_remainders(problem, scale=0.02, halvings=4):
     return np.array(first), np.array(second)
 
 
-def test_taylor_rates_of_residual_and_tangent():
-    problem, lift, _ = build(*rectangle(MPI.COMM_WORLD, 8))
+def taylor_off_equilibrium(comm):
+    """Taylor remainders at the solution for V = 0.04 with u_s scaled by 1.1 (off the
+    equilibrium, so that F(x).d is not 0)."""
+    problem, _, _ = build(*rectangle(comm, 8))
     solve(problem, (0.04,))
-    # off the equilibrium, so that F(x).d is not 0
     problem.states[0].x.array[:] *= 1.1
-    energy, residual = taylor_remainders(problem)
+    remainders = taylor_remainders(problem)
     problem.close()
-    for remainders in (energy, residual):
+    return remainders
+
+
+def test_taylor_rates_of_residual_and_tangent():
+    for remainders in taylor_off_equilibrium(MPI.COMM_WORLD):
         rates = np.log2(remainders[:-1] / remainders[1:])
         assert rates == pytest.approx(2.0, abs=0.05), (remainders, rates)
 
@@ -405,14 +411,27 @@ def serial_solution() -> dict:
     return out
 
 
-@pytest.mark.parametrize("partition", [None, "ghosted", "split", "split-ghosted", "off-top"])
+def solve_partitioned(comm, partition):
+    """(owned, ghost) patch cells of every rank, and the observables at V = 0.08."""
+    problem, lift, patch = build(*rectangle(comm, 8, partition))
+    imap = patch.mesh.topology.index_map(1)
+    cells = comm.allgather((imap.size_local, imap.num_ghosts))
+    solve(problem)
+    got = observables(problem, lift)
+    problem.close()
+    return cells, got
+
+
+PARTITIONS = [None, "ghosted", "split", "split-ghosted", "off-top"]
+
+
+@pytest.mark.parametrize("partition", PARTITIONS)
 def test_ranks_give_the_serial_solution(partition):
     """On 2 ranks: Γ cut between the ranks ("split", with ghost cells of Γ on both sides
     of the cut in "split-ghosted"), or wholly on one ("off-top")."""
     comm = MPI.COMM_WORLD
-    problem, lift, patch = build(*rectangle(comm, 8, partition))
-    imap = patch.mesh.topology.index_map(1)
-    cells, ghosts = np.array(comm.allgather((imap.size_local, imap.num_ghosts))).T
+    patch_cells, got = solve_partitioned(comm, partition)
+    cells, ghosts = np.array(patch_cells).T
     assert cells.sum() == 4
     if comm.size > 1 and partition in ("split", "split-ghosted"):
         assert cells.min() > 0
@@ -420,9 +439,6 @@ def test_ranks_give_the_serial_solution(partition):
         assert ghosts.min() > 0
     if comm.size > 1 and partition == "off-top":
         assert cells.min() == 0
-    solve(problem)
-    got = observables(problem, lift)
-    problem.close()
     assert got == pytest.approx(serial_solution(), rel=1e-12)
 
 
@@ -456,3 +472,18 @@ def test_problem_handles_a_state_on_the_submesh():
     with pytest.raises(ValueError, match="entity map"):
         ctx.state_in("stray", patch.space(("Lagrange", 1)))
     problem.close()
+
+
+if __name__ == "__main__":
+    # the numbers of docs/mixed-dimensional.md (also under mpirun -n 2)
+    comm = MPI.COMM_WORLD
+    for name, r in zip(("energy -> residual", "residual -> tangent"), taylor_off_equilibrium(comm)):
+        if comm.rank == 0:
+            print(f"{name}: remainders {np.array2string(r, precision=3)}, rates {np.round(np.log2(r[:-1] / r[1:]), 3)}")
+    serial = serial_solution()
+    for partition in PARTITIONS:
+        cells, got = solve_partitioned(comm, partition)
+        deviation = max(abs(got[k] / serial[k] - 1) for k in serial)
+        if comm.rank == 0:
+            print(f"{partition}: patch cells (owned, ghost) per rank {cells}, largest relative deviation "
+                  f"from serial {deviation:.1e}, pressure {got['pressure']:.16g} (serial {serial['pressure']:.16g})")
