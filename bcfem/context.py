@@ -3,8 +3,10 @@
 A term asks the context for what it needs. Global unknowns (a cavity pressure,
 a debond radius, a load factor) are created on demand on dolfinx's real element
 with :meth:`Context.real_state`; the problem builder later collects every state
-the terms asked for. Run-time parameters are ``fem.Constant`` so forms compile
-once.
+the terms asked for. A state may live on another mesh than the displacement (a
+field on a boundary submesh, :mod:`bcfem.submesh`): the context then keeps the
+entity map that relates that mesh to its own, for every form to compile with.
+Run-time parameters are ``fem.Constant`` so forms compile once.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ class Context:
         self._real_space = None
         self._states: dict[str, fem.Function] = {"displacement": u}
         self._constants: dict[str, fem.Constant] = {}
+        self._entity_maps: list = []
 
     @property
     def real_space(self) -> fem.FunctionSpace:
@@ -54,11 +57,29 @@ class Context:
             self._states[name] = fem.Function(space, name=name)
         return self._states[name]
 
+    def state_in(self, name: str, space: fem.FunctionSpace, entity_map=None) -> fem.Function:
+        """The unknown ``name`` in ``space``, created on first request. A space on another
+        mesh needs the ``entity_map`` (``dolfinx.mesh.EntityMap``) relating that mesh to
+        :attr:`mesh`; forms are integrated over :attr:`mesh`."""
+        if name not in self._states:
+            if space.mesh is not self.mesh:
+                if entity_map is None:
+                    raise ValueError(f"state {name!r} lives on another mesh: give its entity map")
+                if all(m is not entity_map for m in self._entity_maps):
+                    self._entity_maps.append(entity_map)
+            self._states[name] = fem.Function(space, name=name)
+        return self._states[name]
+
     def constant(self, name: str, value: float = 0.0) -> fem.Constant:
         """The run-time parameter ``name``; ``value`` is used only on creation."""
         if name not in self._constants:
             self._constants[name] = fem.Constant(self.mesh, dolfinx.default_scalar_type(value))
         return self._constants[name]
+
+    @property
+    def entity_maps(self) -> list:
+        """The entity maps of the meshes of states on other meshes (empty if none)."""
+        return list(self._entity_maps)
 
     @property
     def states(self) -> dict[str, fem.Function]:

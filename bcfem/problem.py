@@ -21,11 +21,13 @@ class Problem:
     """A blocked nonlinear problem over all states of a context.
 
     Args:
-        ctx: the context; its states are collected after the energies are built.
+        ctx: the context; its states are collected after the energies are built. States
+            on another mesh (a field on a boundary submesh) are assembled through the
+            context's entity maps.
         terms: :class:`~bcfem.protocols.Term` s, whose energies are summed, and
             :class:`~bcfem.protocols.DiscreteTerm` s (e.g. self-contact), which add their
             residual and tangent to the assembled system.
-        bcs: Dirichlet conditions on the displacement.
+        bcs: Dirichlet conditions on any state (also on a state on a submesh).
         prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
         petsc_options: scene defaults, layered over bcfem's (the user's win).
         rows: replacement residuals, keyed by state name: a UFL form, or a callable
@@ -63,10 +65,18 @@ class Problem:
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
         self.options = options.merge(prefix, petsc_options)
+<<<<<<< HEAD
         with options.untouched():
             self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
                                          petsc_options_prefix=prefix, petsc_options=self.options,
                                          jit_options=jit_options)
+=======
+        before = options.keys_under(prefix)
+        self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
+                                     petsc_options_prefix=prefix, petsc_options=self.options,
+                                     jit_options=jit_options, entity_maps=ctx.entity_maps or None)
+        options.forget_new(prefix, before)
+>>>>>>> mixeddim
         self.snes: PETSc.SNES = self._nlp.solver
         self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
             else tuple(line_search_fallbacks)
