@@ -1,6 +1,8 @@
 """The soft substrate geometry: exact measures, the contact vertex, the grading and clear errors."""
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -142,3 +144,14 @@ def test_bad_geometry_is_refused_before_meshing(kwargs, word):
     with pytest.raises(ValueError, match=word):
         SubstrateGeometry(**kwargs)
 
+
+@pytest.mark.serial
+def test_geometry_cli_writes_mesh_and_preview(tmp_path):
+    out = tmp_path / "s.msh"
+    res = subprocess.run([sys.executable, "-m", "bcfem.geometry", "substrate", "--thickness", "0.2",
+                          "--size-contact", "1e-3", "-o", str(out)], capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert out.stat().st_size > 1000 and out.with_suffix(".png").stat().st_size > 1000
+    res = subprocess.run([sys.executable, "-m", "bcfem.geometry", "substrate", "--size-factor", "1", "-o",
+                          str(tmp_path / "bad.msh")], capture_output=True, text=True, timeout=300)
+    assert res.returncode == 2 and "size_factor" in res.stderr and not (tmp_path / "bad.msh").exists()
