@@ -1,4 +1,4 @@
-"""``python -m bcfem.geometry crater --alpha 0.7 -o crater.msh``: write a mesh and a PNG preview."""
+"""``python -m bcfem.geometry crater|substrate [--field value ...] -o mesh.msh``: write a mesh and a PNG preview."""
 
 from __future__ import annotations
 
@@ -10,35 +10,69 @@ from pathlib import Path
 import bcfem  # noqa: F401  (MPI before dolfinx)
 from mpi4py import MPI
 
-from bcfem.geometry.crater import CraterGeometry, create_mesh
+from bcfem.geometry import crater, substrate
+
+
+@dataclasses.dataclass(frozen=True)
+class Shape:
+    """A geometry the command line can build: its dataclass, mesher and preview."""
+
+    geometry: type
+    create_mesh: object
+    help: str
+    labels: tuple[str, str]
+    zooms: object = None  # geometry -> close-ups, each (r_min, r_max, z_min, z_max)
+
+
+SHAPES = {
+    "crater": Shape(crater.CraterGeometry, crater.create_mesh,
+                    "cylindrical specimen with a spherical-cap crater (mm)", ("r [mm]", "z [mm]")),
+    "substrate": Shape(substrate.SubstrateGeometry, substrate.create_mesh,
+                       "soft substrate graded towards the contact line (units of R0)", ("R", "Z"),
+                       zooms=lambda g: [contact_window(g, g.contact_radius),
+                                        contact_window(g, 50 * g.element_size(0.0))]),
+}
+
+
+def contact_window(geometry, half_width):
+    """A close-up of the substrate under its contact point (R0, 0)."""
+    r0, depth = geometry.contact_radius, min(half_width, geometry.height)
+    return (r0 - half_width, r0 + half_width, -depth, 0.05 * depth)
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bcfem.geometry")
     sub = parser.add_subparsers(dest="shape", required=True)
-    crater = sub.add_parser("crater", help="cylindrical specimen with a spherical-cap crater (mm)")
-    for f in dataclasses.fields(CraterGeometry):
-        crater.add_argument("--" + f.name.replace("_", "-"), type=type(f.default), default=f.default)
-    crater.add_argument("-o", "--output", type=Path, required=True, help="the .msh file; a .png preview beside it")
+    for name, shape in SHAPES.items():
+        command = sub.add_parser(name, help=shape.help)
+        for f in dataclasses.fields(shape.geometry):
+            # a None default (derived from other fields) takes a float
+            kind = float if f.default is None else type(f.default)
+            command.add_argument("--" + f.name.replace("_", "-"), type=kind, default=f.default)
+        command.add_argument("-o", "--output", type=Path, required=True,
+                             help="the .msh file; a .png preview beside it")
     args = parser.parse_args(argv)
-    values = {f.name: getattr(args, f.name) for f in dataclasses.fields(CraterGeometry)}
+    shape = SHAPES[args.shape]
+    values = {f.name: getattr(args, f.name) for f in dataclasses.fields(shape.geometry)}
     try:
-        geometry = CraterGeometry(**values)
+        geometry = shape.geometry(**values)
     except ValueError as err:
-        parser.exit(2, f"python -m bcfem.geometry crater: error: {err}\n")
+        parser.exit(2, f"python -m bcfem.geometry {args.shape}: error: {err}\n")
     comm = MPI.COMM_WORLD
     args.output.parent.mkdir(parents=True, exist_ok=True)
-    data = create_mesh(geometry, comm, msh_file=args.output if comm.rank == 0 else None)
-    preview(data, args.output.with_suffix(".png"), comm)
+    data = shape.create_mesh(geometry, comm, msh_file=args.output if comm.rank == 0 else None)
+    zooms = shape.zooms(geometry) if shape.zooms else []
+    preview(data, args.output.with_suffix(".png"), comm, shape.labels, zooms)
     if comm.rank == 0:
         print(f"wrote {args.output} and {args.output.with_suffix('.png')} "
               f"({data.mesh.topology.index_map(2).size_global} cells)")
     return 0
 
 
-def preview(data, path, comm) -> None:
-    """The mesh (vertices only) coloured by region, on rank 0."""
+def preview(data, path, comm, labels=("r", "z"), zooms=()) -> None:
+    """The mesh (vertices only) coloured by region, on rank 0, and a panel for each close-up window."""
     import numpy as np
+    from matplotlib.collections import PolyCollection
 
     from bcfem import io
     from bcfem.plots import pyplot
@@ -51,15 +85,27 @@ def preview(data, path, comm) -> None:
     gathered = comm.gather((xy[cells], tags), root=0)
     if comm.rank != 0:
         return
+    triangles = np.concatenate([t for t, _ in gathered])
+    colours = np.where(np.concatenate([r for _, r in gathered]) == 2, "#f4c27a", "#cfe0f3")
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(4, 8))
-    for triangles, region in gathered:
-        for tri, tag in zip(triangles, region):
-            ax.fill(tri[:, 0], tri[:, 1], facecolor="#f4c27a" if tag == 2 else "#cfe0f3",
-                    edgecolor="k", linewidth=0.15)
-    ax.set_aspect("equal")
-    ax.set_xlabel("r [mm]")
-    ax.set_ylabel("z [mm]")
+    shape = np.ptp(triangles[..., 1]) / np.ptp(triangles[..., 0])
+    panels = 1 + len(zooms)
+    fig, axes = plt.subplots(1, panels, figsize=(4 * panels, min(8.0, max(3.0, 4 * shape))), squeeze=False)
+    for ax, window in zip(axes[0], [None, *zooms]):
+        # a thin layer at true scale would be a line: stretch it and leave its
+        # edges, a smear at that scale, to the close-ups (which stay true)
+        true_scale = bool(window) or 0.2 < shape < 5
+        ax.add_collection(PolyCollection(triangles, facecolors=colours, edgecolors="k",
+                                         linewidths=0.15 if true_scale else 0))
+        ax.autoscale_view()
+        if window:
+            ax.set_xlim(*window[:2])
+            ax.set_ylim(*window[2:])
+        ax.set_aspect("equal" if true_scale else "auto")
+        ax.set_title(f"{len(triangles)} cells" if window is None else "close-up", fontsize=9)
+        ax.set_xlabel(labels[0])
+        ax.set_ylabel(labels[1])
+    fig.tight_layout()
     io.save_figure(fig, path, comm)
 
 
