@@ -65,18 +65,10 @@ class Problem:
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
         self.options = options.merge(prefix, petsc_options)
-<<<<<<< HEAD
         with options.untouched():
             self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
                                          petsc_options_prefix=prefix, petsc_options=self.options,
-                                         jit_options=jit_options)
-=======
-        before = options.keys_under(prefix)
-        self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
-                                     petsc_options_prefix=prefix, petsc_options=self.options,
-                                     jit_options=jit_options, entity_maps=ctx.entity_maps or None)
-        options.forget_new(prefix, before)
->>>>>>> mixeddim
+                                         jit_options=jit_options, entity_maps=ctx.entity_maps or None)
         self.snes: PETSc.SNES = self._nlp.solver
         self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
             else tuple(line_search_fallbacks)
