@@ -164,17 +164,6 @@ def create_mesh(geometry: SubstrateGeometry, comm, msh_file=None):
         dolfinx.io.gmsh.MeshData: mesh, cell_tags, facet_tags and ridge_tags
         (the CONTACT and CORNER points).
     """
-    import gmsh
-    from dolfinx.io import gmsh as gmshio
+    from bcfem.geometry.mesh import distribute
 
-    if comm.rank == 0:
-        gmsh.initialize(interruptible=False)
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.option.setNumber("General.NumThreads", 1)
-        build_model(geometry)
-        if msh_file is not None:
-            gmsh.write(str(msh_file))
-    data = gmshio.model_to_mesh(gmsh.model if comm.rank == 0 else None, comm, 0, gdim=2)
-    if comm.rank == 0:
-        gmsh.finalize()
-    return data
+    return distribute(lambda: build_model(geometry), comm, msh_file)

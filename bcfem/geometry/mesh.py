@@ -1,0 +1,46 @@
+"""gmsh models to distributed dolfinx meshes: the one place gmsh is run.
+
+gmsh builds the model on rank 0 alone (one thread, no terminal output), and
+dolfinx distributes it over the communicator. A failure on rank 0 is raised on
+every rank, so that no rank waits for a mesh that never comes.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+
+def distribute(build_model: Callable[[], None], comm, msh_file=None):
+    """Run ``build_model()`` (it adds entities and physical groups to the current gmsh
+    model) on rank 0 and distribute the mesh over ``comm``.
+
+    Args:
+        build_model: builds and meshes the model.
+        comm: the communicator of the mesh.
+        msh_file: if given, rank 0 also writes the gmsh model there.
+
+    Returns:
+        dolfinx.io.gmsh.MeshData: mesh, cell_tags, facet_tags, ridge_tags, ...
+    """
+    import gmsh
+    from dolfinx.io import gmsh as gmshio
+
+    error = None
+    if comm.rank == 0:
+        gmsh.initialize(interruptible=False)
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("General.NumThreads", 1)
+        try:
+            build_model()
+            if msh_file is not None:
+                gmsh.write(str(msh_file))
+        except Exception as err:  # reported on every rank below
+            error = f"{type(err).__name__}: {err}"
+            gmsh.finalize()
+    error = comm.bcast(error, root=0)
+    if error is not None:
+        raise RuntimeError(f"gmsh could not build the mesh: {error}")
+    data = gmshio.model_to_mesh(gmsh.model if comm.rank == 0 else None, comm, 0, gdim=2)
+    if comm.rank == 0:
+        gmsh.finalize()
+    return data
