@@ -3,7 +3,7 @@ VENV  ?= .venv
 BIN   := $(VENV)/bin
 NP    ?= 2
 
-.PHONY: venv demo test test-serial test-mpi bench report clean
+.PHONY: venv demo test test-all bench report clean
 
 venv:
 	@./tools/bootstrap.sh
@@ -11,9 +11,18 @@ venv:
 demo: venv
 	$(BIN)/bcfem run blister-rigid --material gent --Jm 100 --out results/blister-rigid
 
+PYTEST := $(BIN)/python -m pytest -q -p no:cacheprovider
+MPI_PYTEST := PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q
+
+# the fast tier: term battery, toys, every scene on a tiny mesh, CLI contracts, MPI on small cases
 test: venv
-	$(BIN)/python -m pytest -q --durations=15 tests
-	PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q -m "mpi and not serial" tests
+	$(PYTEST) --durations=10 tests
+	$(MPI_PYTEST) -m "mpi and not slow and not convergence and not demo" tests
+
+# everything: adds full crater cycles, convergence studies and the demos (serial and on NP ranks)
+test-all: venv
+	$(PYTEST) -m "" --durations=20 tests
+	$(MPI_PYTEST) -m "mpi" tests
 
 DEMOS := $(basename $(notdir $(wildcard demos/*.py)))
 

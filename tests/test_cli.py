@@ -133,6 +133,7 @@ def test_help_states_units():
         assert text in res.stdout
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("edge", ["adhesive", "sliding", "slippery"])
 def test_moving_edges_under_mpi_equal_serial(tmp_path, edge):
     args = ["run", "blister-rigid", "--edge", edge, "--alpha", "0.5", "--adhesion", "2.5",

@@ -13,6 +13,7 @@ LARGE = dict(specimen_radius=63.5, specimen_height=127.0,
              surface_energy=0.0)  # ~ the infinite body of Eshelby, no surface energy
 
 
+@pytest.mark.slow
 def test_small_preload_approaches_eshelby():
     deviations = []
     for eps in (0.01, 0.003):
@@ -34,6 +35,7 @@ def test_zero_preload_is_a_cycle_with_zero_force(fluid):
     assert [r["stage"] for r in rows] == ["load", "unload"]
 
 
+@pytest.mark.slow
 def test_small_preload_keeps_symmetry():
     """--waves: at a preload below the creasing range no Fourier mode n = 1..6 loses stability
     on either stage. (A sideways n = 1 mode whose axis condition a + b = 0 was left to the
@@ -45,6 +47,7 @@ def test_small_preload_keeps_symmetry():
     assert summary["final_unstable_modes"] == 0
 
 
+@pytest.mark.slow
 def test_a_cycle_that_ends_on_a_saddle_says_so():
     """Past the creasing range Newton can follow unstable equilibria: hemisphere, eps = 0.4,
     gamma/(mu a) = 0.005, the zero-force state has one unstable axisymmetric mode (measured,
@@ -55,6 +58,7 @@ def test_a_cycle_that_ends_on_a_saddle_says_so():
     assert last["stage"] == "unload"
 
 
+@pytest.mark.slow
 def test_liquid_small_preload_approaches_eshelby():
     """Incompressible liquid (ch. 8): V2 = V1, and Eshelby's Delta V1 = Delta V2 gives
     Delta p = -eps mu, so F~ = beta eps (eq. 8.6) as eps -> 0."""
@@ -68,6 +72,7 @@ def test_liquid_small_preload_approaches_eshelby():
     assert deviations[1] < 0.005
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("variant", [[], ["--fluid", "liquid", "--layer-thickness", "0.05", "--layer-stiffness", "10"]],
                          ids=["air", "liquid-layer"])
 def test_cycle_outputs_and_mpi(tmp_path, variant):
@@ -121,6 +126,7 @@ def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
     assert res.returncode == 2 and word in res.stderr and not out.exists()
 
 
+@pytest.mark.slow
 def test_no_locking_at_kappa_over_mu_1e6():
     """Taylor-Hood u-p: kappa/mu = 1e6 converges and differs from 1e3 and 1e4 runs by the
     compressibility itself, O(mu/kappa): ten times less from 1e4 than from 1e3."""
@@ -133,6 +139,8 @@ def test_no_locking_at_kappa_over_mu_1e6():
         assert near < 0.2 * far + 1e-6, (key, near, far)
 
 
+@pytest.mark.slow
+@pytest.mark.convergence
 def test_mesh_convergence_at_preload_0_3():
     """The smooth functionals of the cycle (V1, V2, p2) converge with the mesh at eps = 0.3;
     F~ = (1 - p2) A2/A0 also carries the rim position, which is known to a node spacing."""
@@ -145,6 +153,7 @@ def test_mesh_convergence_at_preload_0_3():
     assert abs(F[2] / F[1] - 1) < 0.08, F
 
 
+@pytest.mark.slow
 @pytest.mark.mpi
 def test_wall_surface_energy_shrinks_the_crater_as_an_exact_spherical_cavity():
     """The wall's surface energy gamma pulls the crater in with the Laplace pressure 2 gamma / R.

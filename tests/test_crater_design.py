@@ -7,6 +7,8 @@ from mpi4py import MPI
 from bcfem.scenes import crater
 from helpers import bcfem
 
+slow = pytest.mark.slow
+
 
 def cycle(**kwargs):
     return crater.solve(crater.Params(**kwargs), MPI.COMM_WORLD)[1]
@@ -17,6 +19,7 @@ def hemisphere_to_closure():
     return cycle(preload=crater.PRELOAD_TO_CLOSURE)
 
 
+@slow
 def test_layer_as_stiff_as_the_specimen_changes_nothing():
     """beta' = 1: the layer is a second region of the same material on another mesh; the
     cycle agrees with the unreinforced one to the discretisation error."""
@@ -26,6 +29,7 @@ def test_layer_as_stiff_as_the_specimen_changes_nothing():
         assert lined[key] == pytest.approx(plain[key], rel=1e-3), key
 
 
+@slow
 def test_stiff_thin_layer_converges_and_strengthens():
     """alpha' = 0.03, beta' = 30 (Fig. 7.11c's layer): the stiff lining springs back, so the
     crater keeps more of its volume and the suction rises (here about twice)."""
@@ -35,6 +39,7 @@ def test_stiff_thin_layer_converges_and_strengthens():
     assert lined["F_tilde"] > 1.5 * plain["F_tilde"]
 
 
+@slow
 def test_closure_preload_brackets_the_first_closed_state(hemisphere_to_closure):
     """eps_m closes the crater (V1 <= CLOSURE_VOLUME V0; stage 2 has a vacuum inside:
     F = p_a A2, eq. 7.17, and says so); a preload 0.01 below leaves it open."""
@@ -49,10 +54,13 @@ def test_closure_preload_brackets_the_first_closed_state(hemisphere_to_closure):
     assert abs(below["fluid_law_residual"]) < 1e-8
 
 
+@slow
 def test_a_crater_still_open_at_the_closure_limit_is_a_result(monkeypatch):
     """``--preload closure`` that reaches MAX_CLOSURE_PRELOAD with the crater open reports
     so (eps_m None, a note) and cycles from there: the plain cycle at that preload."""
-    monkeypatch.setattr(crater, "MAX_CLOSURE_PRELOAD", 0.1)  # the hemisphere closes at ~0.4
+    from bcfem.scenes.crater import stages
+
+    monkeypatch.setattr(stages, "MAX_CLOSURE_PRELOAD", 0.1)  # the hemisphere closes at ~0.4
     summary = cycle(preload=crater.PRELOAD_TO_CLOSURE)
     plain = cycle(preload=0.1)
     assert summary["eps_m"] is None and summary["preload"] == 0.1
@@ -62,6 +70,7 @@ def test_a_crater_still_open_at_the_closure_limit_is_a_result(monkeypatch):
     assert abs(summary["fluid_law_residual"]) < 1e-8
 
 
+@slow
 def test_sweep_is_rank_count_invariant(tmp_path):
     """`bcfem sweep crater` gives the same CSV on 1 and 2 ranks (each point is a serial
     cycle); the stability class is part of it. The alpha axis is given the issue's way,
@@ -79,6 +88,7 @@ def test_sweep_is_rank_count_invariant(tmp_path):
     assert len(lines) == 5 and "failed" not in csv[1] and "stability" in lines[0]
 
 
+@slow
 def test_stability_classification(hemisphere_to_closure):
     """A small preload is stable throughout; closing the hemisphere passes instabilities
     already on loading (the inertia of the tangent turns negative)."""
@@ -103,6 +113,7 @@ def test_symmetry_classes_come_from_waves_beyond_the_axisymmetric_count():
     assert crater.classify([e for e in events if e.get("breaks_symmetry")]) == "unstable-unloading"
 
 
+@slow
 def test_closed_liquid_crater_gives_no_suction(hemisphere_to_closure):
     """Eq. 8.8: a liquid crater closed on loading stays closed (V2 = V1 = 0): F_hat = 0, said
     so; the loading (vented) is the air crater's, so eps_m is the same."""
@@ -112,6 +123,7 @@ def test_closed_liquid_crater_gives_no_suction(hemisphere_to_closure):
     assert "eq. 8.8" in summary["closure_note"]
 
 
+@slow
 def test_a_soft_shallow_crater_stays_closed_and_says_so():
     """alpha = 0.25, beta = 0.5 (Fig. 7.10, top left): pressed flat, the crater's wall needs
     less than p_a to lift, so the vacuum holds it on the plate through the unloading. No
@@ -126,6 +138,7 @@ def test_a_soft_shallow_crater_stays_closed_and_says_so():
     assert "stays closed" not in stiff["closure_note"]
 
 
+@slow
 def test_thin_stiff_lining_closes_with_a_trapped_pocket():
     """alpha' = 0.015, beta' = 30: the lining folds onto the plate and traps pockets, so V1
     never reaches CLOSURE_VOLUME V0. The crater counts as closed once the wall lies on the
@@ -138,6 +151,7 @@ def test_thin_stiff_lining_closes_with_a_trapped_pocket():
     assert "trapped remnant" in summary["closure_note"]
 
 
+@slow
 def test_a_lining_folding_on_the_plate_passes_where_newton_cycled():
     """alpha' = 0.06, beta' = 3 (a Fig. 7.11b point): at eps = 0.2728 the wall folds on the
     plate, and a node at the fold's tip lies behind a wall segment. Whether a node faces a
@@ -151,6 +165,7 @@ def test_a_lining_folding_on_the_plate_passes_where_newton_cycled():
     assert 0 < summary["p2_over_pa"] < 1 and 0 < summary["F_tilde"] < 1
 
 
+@slow
 def test_stiffness_contrasts_of_1e3_and_1e4_converge_to_a_rigid_lining():
     """beta' = 1e3 and 1e4 (alpha' = 0.03) converge, and the lining tends to a rigid shell:
     the crater's volume change on loading falls as 1/beta' (a thin shell's compliance;

@@ -15,6 +15,7 @@ GRID = ["sweep", "blister-rigid", "--grid", "alpha=0:2:2", "--grid", "adhesion=1
         "--material", "gent", "--v-max", "20", "--cells", "30", "--quiet"]
 
 
+@pytest.mark.slow
 def test_sweep_is_rank_count_invariant_and_resumable(tmp_path):
     serial, parallel = tmp_path / "serial", tmp_path / "mpi"
     res = bcfem(*GRID, "--out", str(serial))
