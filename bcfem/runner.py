@@ -61,10 +61,11 @@ class Run:
         newton_iterations: over every stage.
     """
 
-    def __init__(self, scene, comm, on_accept=None):
+    def __init__(self, scene, comm, fields_path: Path | None = None):
         self.scene = scene
         self.comm = comm
-        self.on_accept = on_accept
+        self.fields_path = fields_path
+        self._writer = None
         self.rows: list[dict] = []
         self.results: dict = {}
         self.petsc_options: dict[str, str] = {}
@@ -102,11 +103,26 @@ class Run:
             self.newton_iterations += problem.newton_iterations
             problem.close()
 
+    def watch(self, functions) -> None:
+        """Write ``functions`` at every recorded row (collective; VTX, when the run has a
+        fields path). A second call, e.g. for the model of a retraced path, starts the file
+        again."""
+        if self.fields_path is None or not functions:
+            return
+        if self._writer is not None:
+            self._writer.close()
+        self._writer = io.FieldWriter(self.comm, self.fields_path, functions)
+
+    def on_accept(self, row: dict) -> None:
+        """Write the watched fields of an accepted state (its time: the arc length, or the
+        row's index)."""
+        if self._writer is not None:
+            self._writer.write(row.get("s", len(self.rows)))
+
     def record(self, row: dict) -> None:
-        """Keep an accepted state's observables."""
+        """Keep an accepted state's observables (and write its fields)."""
+        self.on_accept(row)
         self.rows.append(row)
-        if self.on_accept is not None:
-            self.on_accept(row)
 
     def restart(self) -> None:
         """Forget the rows and results (a scene that traces its path again from the start)."""
@@ -116,13 +132,17 @@ class Run:
     def close(self) -> None:
         for problem in list(self._problems):
             self.release(problem)
+        if self._writer is not None:
+            self._writer.close()
+            self._writer = None
 
 
-def solve(scene, comm, on_accept=None) -> tuple[Run, dict]:
+def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
     """Solve ``scene``; returns (the run, its summary). Raises :class:`SolveError` (with the
-    run, whose ``summary`` says ``failed``) when the path cannot go on."""
+    run, whose ``summary`` says ``failed``) when the path cannot go on. With ``fields_path``
+    the fields the scene watches are written there (VTX)."""
     t0 = time.perf_counter()
-    run = Run(scene, comm, on_accept)
+    run = Run(scene, comm, fields_path)
     error = None
     try:
         scene.solve(run)
@@ -157,21 +177,11 @@ def run(scene, out: Path, comm) -> dict:
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
     comm.barrier()
-    fields = io.FieldWriter(comm, out / "fields.bp", scene.fields) if scene.fields else None
-    written = [0]
-
-    def on_accept(row):  # the field's time is the arc length, or the row's index
-        fields.write(row.get("s", written[0]))
-        written[0] += 1
-
     failure = None
     try:
-        solved, summary = solve(scene, comm, on_accept if fields else None)
+        solved, summary = solve(scene, comm, out / "fields.bp")
     except SolveError as err:
         failure, solved, summary = err, err.run, err.run.summary
-    finally:
-        if fields:
-            fields.close()
     io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
     io.write_json(out / "summary.json", summary, comm)
     if comm.rank == 0 and solved.rows:

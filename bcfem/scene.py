@@ -83,6 +83,7 @@ class Scene:
         from bcfem.continuation import ContinuationError
         from bcfem.runner import trace
 
+        run.watch(self.fields)
         try:
             branch, problem = trace(self, run.on_accept, run)
         except ContinuationError as err:

@@ -59,7 +59,6 @@ class CraterCycle:
     name = "crater"
     stages = ("load", "unload")
     columns = COLUMNS
-    fields: list = []
 
     def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
         self.params = params
@@ -94,6 +93,7 @@ class CraterCycle:
     def _cycle(self, run, careful: bool) -> None:
         params = self.params
         model = self.model = self.model_class(params, self.comm)
+        run.watch([model.u])
         events: list[dict] = []
         run.results.update(instabilities=events, retraced=None)
         solver = {"snes_type": "vinewtonrsls", **(CAREFUL if careful else {})}
