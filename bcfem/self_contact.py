@@ -22,8 +22,8 @@ of a fold the node's mean normal turns edge-on, and a test at every iterate
 switched the pair on and off between iterates (a Newton 2-cycle).
 
 A node that one Newton step carries deeper than ``depth`` L behind a segment
-is out of the penalty's reach, and the wall would stay through itself (seen:
-a crater wall curled into a loop through its own side). So the term also
+is out of the penalty's reach, and the wall would stay through itself (curled
+into a loop through its own side). So the term also
 vetoes a converged state whose boundary crosses itself that deep
 (``inadmissible``): the solve fails, and the load step is cut back. A problem
 may instead keep every Newton step short enough that the wall stays admissible

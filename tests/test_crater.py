@@ -50,8 +50,8 @@ def test_small_preload_keeps_symmetry():
 @pytest.mark.slow
 def test_a_cycle_that_ends_on_a_saddle_says_so():
     """Past the creasing range Newton can follow unstable equilibria: hemisphere, eps = 0.4,
-    gamma/(mu a) = 0.005, the zero-force state has one unstable axisymmetric mode (measured,
-    session 6), and the summary must say so rather than pass F~ off as a stable state's."""
+    gamma/(mu a) = 0.005, the zero-force state has one unstable axisymmetric mode, and the
+    summary must say so rather than pass F~ off as a stable state's."""
     _, summary = crater.solve(crater.Params(preload=0.4, surface_energy=0.005), MPI.COMM_WORLD)
     last = [e for e in summary["instabilities"] if e["kind"] == "stability"][-1]
     assert summary["final_unstable_modes"] == last["unstable"] == 1

@@ -154,11 +154,10 @@ def test_thin_stiff_lining_closes_with_a_trapped_pocket():
 @slow
 def test_a_lining_folding_on_the_plate_passes_where_newton_cycled():
     """alpha' = 0.06, beta' = 3 (a Fig. 7.11b point): at eps = 0.2728 the wall folds on the
-    plate, and a node at the fold's tip lies behind a wall segment. Whether a node faces a
-    segment was tested at every iterate, and at the tip the node's mean normal turns
-    edge-on, so the pair switched on and off and Newton 2-cycled (residuals 70.9 / 0.79)
-    until the run failed there. Decided once per solve, the cycle completes, and the
-    trapped air obeys Boyle's law."""
+    plate, and a node at the fold's tip lies behind a wall segment, where its mean normal
+    turns edge-on. Regression: facing is decided once per solve (self_contact.py), so the
+    pair does not switch between iterates, the cycle completes, and the trapped air obeys
+    Boyle's law."""
     summary = cycle(preload=0.28, alpha=1.0, beta=1.0, layer_thickness=0.06, layer_stiffness=3.0)
     assert summary["preload"] == 0.28 and summary["V1_over_V0"] > 0.1
     assert abs(summary["fluid_law_residual"]) < 1e-8
