@@ -13,10 +13,7 @@ from dataclasses import dataclass
 
 import ufl
 
-
-def _require(condition: bool, message: str) -> None:
-    if not condition:
-        raise ValueError(message)
+from bcfem.params import require
 
 
 @dataclass(frozen=True)
@@ -31,7 +28,7 @@ class NeoHookean:
     name = "neo-hookean"
 
     def __post_init__(self):
-        _require(math.isfinite(self.mu) and self.mu > 0, f"mu must be > 0 (got {self.mu})")
+        require(math.isfinite(self.mu) and self.mu > 0, f"mu must be > 0 (got {self.mu})")
 
     def strain_energy(self, I1):
         return 0.5 * self.mu * (I1 - 3)
@@ -55,8 +52,8 @@ class Gent:
     name = "gent"
 
     def __post_init__(self):
-        _require(math.isfinite(self.mu) and self.mu > 0, f"mu must be > 0 (got {self.mu})")
-        _require(self.Jm > 0 and not math.isnan(self.Jm), f"Jm must be > 0 (got {self.Jm}); use inf for neo-Hookean")
+        require(math.isfinite(self.mu) and self.mu > 0, f"mu must be > 0 (got {self.mu})")
+        require(self.Jm > 0 and not math.isnan(self.Jm), f"Jm must be > 0 (got {self.Jm}); use inf for neo-Hookean")
 
     def strain_energy(self, I1):
         if math.isinf(self.Jm):
@@ -89,8 +86,8 @@ class NearlyIncompressibleNeoHookean:
     name = "neo-hookean-mixed"
 
     def __post_init__(self):
-        _require(math.isfinite(self.mu) and self.mu > 0, f"mu must be > 0 (got {self.mu})")
-        _require(0 < self.kappa / self.mu <= 1e12, f"kappa/mu must be in (0, 1e12] (got {self.kappa / self.mu:g})")
+        require(math.isfinite(self.mu) and self.mu > 0, f"mu must be > 0 (got {self.mu})")
+        require(0 < self.kappa / self.mu <= 1e12, f"kappa/mu must be in (0, 1e12] (got {self.kappa / self.mu:g})")
 
     def density(self, kin, p):
         return (0.5 * self.mu * (kin.I1 - 3) - self.mu * ufl.ln(kin.J)

@@ -8,6 +8,7 @@ import ufl
 from dolfinx import fem, mesh
 from mpi4py import MPI
 
+from bcfem.bcs import component, where
 from bcfem.context import Context
 from bcfem.energies import SolidStrain
 from bcfem.materials import NearlyIncompressibleNeoHookean
@@ -30,19 +31,11 @@ def compress(stretch: float, kappa_over_mu: float, cells: int = 4):
     ctx = Context(u, AxisymmetricSolid(u, quadrature_degree=4))
     material = NearlyIncompressibleNeoHookean(mu=1.0, kappa=kappa_over_mu)
     terms = [SolidStrain(material)]
-    Vr, _ = V.sub(0).collapse()
-    Vz, _ = V.sub(1).collapse()
-    fdim = 1
-
-    def dofs(sub, collapsed, where):
-        facets = mesh.locate_entities_boundary(msh, fdim, where)
-        return fem.locate_dofs_topological((V.sub(sub), collapsed), fdim, facets)
-
-    top_z = fem.Function(Vz)
+    top_z = fem.Function(V.sub(1).collapse()[0])
     top_z.x.array[:] = (stretch - 1) * HEIGHT
-    bcs = [fem.dirichletbc(fem.Function(Vr), dofs(0, Vr, lambda x: np.isclose(x[0], 0)), V.sub(0)),
-           fem.dirichletbc(fem.Function(Vz), dofs(1, Vz, lambda x: np.isclose(x[1], 0)), V.sub(1)),
-           fem.dirichletbc(top_z, dofs(1, Vz, lambda x: np.isclose(x[1], HEIGHT)), V.sub(1))]
+    bcs = [component(V, 0, where(V, lambda x: np.isclose(x[0], 0))),
+           component(V, 1, where(V, lambda x: np.isclose(x[1], 0))),
+           component(V, 1, where(V, lambda x: np.isclose(x[1], HEIGHT)), top_z)]
     u.interpolate(lambda x: np.vstack([(stretch**-0.5 - 1) * x[0], (stretch - 1) * x[1]]))
     with Problem(ctx, terms, bcs, "bcfem_test_solid_") as problem:
         assert problem.solve(), problem.reason

@@ -29,6 +29,7 @@ import numpy as np
 import ufl
 from dolfinx import fem, mesh
 
+from bcfem.bcs import component, where
 from bcfem.energies import WettedSubstrate
 from bcfem.kinematics import scaled, two_zone
 
@@ -46,32 +47,23 @@ class Edge:
     free: fem.Constant | None = None  # 1 once a moving edge is released
 
 
-def _boundary_dofs(V, x0):
-    msh = V.mesh
-    fdim = msh.topology.dim - 1
-    facets = mesh.locate_entities_boundary(msh, fdim, lambda x: np.isclose(x[0], x0))
-    return fdim, facets
+def _edge(x0):
+    return lambda x: np.isclose(x[0], x0)
 
 
 def _axis_bc(V):
-    fdim, axis = _boundary_dofs(V, 0.0)
-    Vr, _ = V.sub(0).collapse()
-    dofs = fem.locate_dofs_topological((V.sub(0), Vr), fdim, axis)
-    return fem.dirichletbc(fem.Function(Vr), dofs, V.sub(0))
+    return component(V, 0, where(V, _edge(0.0)))
 
 
 def _fixed_edge_bc(V):
-    fdim, edge = _boundary_dofs(V, 1.0)
     zero = np.zeros(2, dtype=fem.Function(V).x.array.dtype)
-    return fem.dirichletbc(zero, fem.locate_dofs_topological(V, fdim, edge), V)
+    fdim = V.mesh.topology.dim - 1
+    return fem.dirichletbc(zero, fem.locate_dofs_topological(V, fdim, where(V, _edge(1.0))), V)
 
 
 def _lifted_edge_bc(V):
     """z = 0 at the edge; r free."""
-    fdim, edge = _boundary_dofs(V, 1.0)
-    Vz, _ = V.sub(1).collapse()
-    dofs = fem.locate_dofs_topological((V.sub(1), Vz), fdim, edge)
-    return fem.dirichletbc(fem.Function(Vz), dofs, V.sub(1))
+    return component(V, 1, where(V, _edge(1.0)))
 
 
 def clamped(ctx, params) -> Edge:

@@ -17,6 +17,7 @@ import math
 import numpy as np
 from dolfinx import fem
 
+from bcfem.bcs import component
 from bcfem.cavity import Cavity
 from bcfem.context import Context
 from bcfem.energies import SolidStrain, SolidSurfaceEnergy
@@ -90,12 +91,8 @@ class Crater:
         self.platen.x.array[:] = -strain * self.params.specimen_height
 
     def _bcs(self, V, facets):
-        def on(sub, tag, value=None):
-            space, _ = V.sub(sub).collapse()
-            dofs = fem.locate_dofs_topological((V.sub(sub), space), 1, facets.find(tag))
-            return fem.dirichletbc(value if value is not None else fem.Function(space), dofs, V.sub(sub))
-
-        return [on(0, AXIS), on(1, BOTTOM), on(1, TOP, self.platen)]
+        return [component(V, 0, facets.find(AXIS)), component(V, 1, facets.find(BOTTOM)),
+                component(V, 1, facets.find(TOP), self.platen)]
 
     def observe(self, stage: str, eps: float, V1: float | None = None) -> dict:
         V0, A0 = self.geometry.crater_volume, math.pi * self.geometry.crater_radius**2
