@@ -10,13 +10,14 @@ from scipy.optimize import brentq
 BIN = Path(sys.executable).parent
 
 
-def bcfem(*args, ranks: int = 1, timeout: float = 600) -> subprocess.CompletedProcess:
-    """``bcfem ARGS`` (under ``mpirun -n ranks`` if ranks > 1), with the venv's bin on PATH."""
+def bcfem(*args, ranks: int = 1, timeout: float = 600, env: dict | None = None) -> subprocess.CompletedProcess:
+    """``bcfem ARGS`` (under ``mpirun -n ranks`` if ranks > 1), with the venv's bin on PATH and
+    ``env`` added to the environment."""
     cmd = [str(BIN / "bcfem"), *map(str, args)]
     if ranks > 1:
         cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
-    env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}"}
-    return subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout)
+    full = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}", **(env or {})}
+    return subprocess.run(cmd, capture_output=True, text=True, env=full, timeout=timeout)
 
 
 def exact_nominal_stress(stretch, kappa):

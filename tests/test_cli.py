@@ -2,25 +2,13 @@
 
 import csv
 import json
-import os
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import bcfem
 
-BIN = Path(sys.executable).parent
 ARGS = ["run", "blister-rigid", "--material", "gent", "--Jm", "100", "--alpha", "0.5",
         "--v-max", "6", "--cells", "60", "--degree", "2", "--quiet"]
-
-
-def bcfem(*args, ranks=1, env=None):
-    cmd = [str(BIN / "bcfem"), *args]
-    if ranks > 1:
-        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
-    full_env = {**os.environ, "PATH": f"{BIN}:{os.environ['PATH']}", **(env or {})}
-    return subprocess.run(cmd, capture_output=True, text=True, env=full_env, timeout=600)
 
 
 def read(out):

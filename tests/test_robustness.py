@@ -1,19 +1,15 @@
 """Stiff and extreme cases of blister-rigid: each converges or fails with a clear message."""
 
 import json
-import os
-import subprocess
-import sys
-from pathlib import Path
+
+from mpi4py import MPI
 
 import numpy as np
 import pytest
-from mpi4py import MPI
+from helpers import bcfem
 
 from bcfem.runner import trace
 from bcfem.scenes import blister_rigid
-
-BIN = Path(sys.executable).parent
 
 
 def fold(**kwargs):
@@ -45,9 +41,7 @@ def test_vanishing_membrane_stiffness():
 
 def test_gent_locking_fails_with_a_clear_message(tmp_path):
     out = tmp_path / "lock"
-    env = {**os.environ, "PATH": f"{BIN}:{os.environ['PATH']}"}
-    res = subprocess.run([str(BIN / "bcfem"), "run", "blister-rigid", "--Jm", "2", "--cells", "30",
-                          "--quiet", "--out", str(out)], capture_output=True, text=True, env=env, timeout=300)
+    res = bcfem("run", "blister-rigid", "--Jm", "2", "--cells", "30", "--quiet", "--out", out, timeout=300)
     assert res.returncode == 1
     assert "locking" in res.stderr and "Jm" in res.stderr
     summary = json.loads((out / "summary.json").read_text())
