@@ -110,7 +110,13 @@ def droplet(theta):
 
 
 def droplet_angle_from_volume(v_over_v0: float) -> float:
-    """Contact angle theta in (0, pi) of the cap with volume V/V0."""
-    from scipy.optimize import brentq
+    """Contact angle theta in (0, pi) of the cap with volume V/V0.
 
-    return brentq(lambda t: float(droplet(t)[2]) - v_over_v0, 1e-9, math.pi - 1e-9, xtol=1e-15)
+    With t = tan(theta/2) = z(0)/R0 the cap's volume is V/V0 = t (3 + t²)/8, a cubic with one
+    real root, t = A - 1/A, A = cbrt(4v + sqrt(16v² + 1)) (Cardano).
+    """
+    v = float(v_over_v0)
+    A = np.cbrt(4 * v + math.sqrt(16 * v * v + 1))
+    t = A - 1 / A
+    t -= (t**3 + 3 * t - 8 * v) / (3 * t * t + 3)  # one Newton step: A - 1/A cancels for small v
+    return 2 * math.atan(t)
