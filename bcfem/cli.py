@@ -100,6 +100,8 @@ def build_parser():
         _add_params(p, module.Params, getattr(module, "HELP", {}))
         p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
         p.add_argument("--quiet", action="store_true", help="no progress line")
+        p.add_argument("--profile", action="store_true",
+                       help="print where the wall time went (also in summary.json: time_split_s)")
     from bcfem.scenes import STUDIES
 
     sweep = sub.add_parser("sweep", help="solve a grid of parameter points over MPI ranks (resumable)")
@@ -176,15 +178,27 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "fit":
         return _fit(parser, args, module, params, comm)
     try:
-        runner.run(module.build(params, comm), args.out, comm)
+        summary = runner.run(module.build(params, comm), args.out, comm)
     except runner.SolveError as err:
         if comm.rank == 0:
             print(f"bcfem run {args.scene}: solver failed: {err}", file=sys.stderr)
         return 1
+    if args.profile and comm.rank == 0:
+        print(_profile(summary))
     if comm.rank == 0:
         written = sorted(p.name for p in args.out.iterdir() if not p.name.startswith("."))
         print(f"wrote in {args.out}: " + ", ".join(written))
     return 0
+
+
+def _profile(summary: dict) -> str:
+    """The time split of a run, one line per part, with the counts."""
+    wall = summary["wall_time_s"]
+    lines = [f"{part:24s} {seconds:8.3f} s {100 * seconds / wall:5.1f} %"
+             for part, seconds in summary["time_split_s"].items()]
+    return "\n".join([f"wall time {wall:.3f} s on {summary['ranks']} rank(s), {summary['dofs']} dofs, "
+                      f"{summary['steps']} steps, {summary['newton_iterations']} Newton iterations, "
+                      f"{summary['failed_solves']} failed solves", *lines])
 
 
 def _sweep(parser, args, module, params, comm) -> int:

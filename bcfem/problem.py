@@ -7,6 +7,9 @@ replacement row, as arc-length continuation does for its load parameter.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+from time import perf_counter
+
 import numpy as np
 import ufl
 from dolfinx import fem
@@ -88,26 +91,55 @@ class Problem:
         self._bounds: tuple[PETSc.Vec, ...] = ()
         for term in self.discrete:
             term.bind(self)
-        if self.discrete:
-            self._add_discrete_terms()
+        #: seconds spent in: form assembly and discrete terms within Newton solves, the rest of
+        #: the Newton solves (linear solves, line search), and :meth:`timed` work (stability)
+        self.timings = dict.fromkeys(("assembly", "discrete_terms", "newton", "stability"), 0.0)
+        self._timing_outside = 0
+        #: Newton solves that did not converge (each is a cut-back or a retry)
+        self.failed_solves = 0
+        self._wrap_assembly()
 
-    def _add_discrete_terms(self) -> None:
-        """Wrap dolfinx's assembly callbacks: the discrete terms add to what the forms give."""
+    def _wrap_assembly(self) -> None:
+        """Wrap dolfinx's assembly callbacks: the discrete terms add to what the forms give,
+        and both are timed."""
         b, (residual, args, kargs) = self.snes.getFunction()
         A, P, (jacobian, jargs, jkargs) = self.snes.getJacobian()
+        timings = self.timings
+
+        def count(t0, t1):
+            if not self._timing_outside:
+                timings["assembly"] += t1 - t0
+                timings["discrete_terms"] += perf_counter() - t1
 
         def function(snes, x, f):
+            t0 = perf_counter()
             residual(snes, x, f, *args, **kargs)
+            t1 = perf_counter()
             for term in self.discrete:
                 term.add_residual(f)
+            count(t0, t1)
 
         def tangent(snes, x, J, Pmat):
+            t0 = perf_counter()
             jacobian(snes, x, J, Pmat, *jargs, **jkargs)
+            t1 = perf_counter()
             for term in self.discrete:
                 term.add_jacobian(J)
+            count(t0, t1)
 
         self.snes.setFunction(function, b)
         self.snes.setJacobian(tangent, A, P)
+
+    @contextmanager
+    def timed(self, key: str):
+        """Count the time of the enclosed work (assembly included) under ``key``."""
+        t0 = perf_counter()
+        self._timing_outside += 1
+        try:
+            yield
+        finally:
+            self._timing_outside -= 1
+            self.timings[key] = self.timings.get(key, 0.0) + perf_counter() - t0
 
     def bound_steps(self) -> None:
         """Shorten every Newton step to what the discrete terms with a ``step_bound(x, y)``
@@ -197,6 +229,7 @@ class Problem:
                 line_search.setType(default)
         if not ok:
             self.restore(saved)
+            self.failed_solves += 1
         return ok
 
     def _newton(self) -> bool:
@@ -250,11 +283,15 @@ class Problem:
         for term in self.discrete:
             if hasattr(term, "begin_solve"):
                 term.begin_solve()
+        t0 = perf_counter()
+        assembled = self.timings["assembly"] + self.timings["discrete_terms"]
         try:
             self.snes.solve(None, x)
             self.reason = self.snes.getConvergedReason()
         except PETSc.Error:
             self.reason = -100  # e.g. a NaN pivot from an inverted iterate
+        assembled = self.timings["assembly"] + self.timings["discrete_terms"] - assembled
+        self.timings["newton"] += perf_counter() - t0 - assembled
         self.iterations = self.snes.getIterationNumber()
 
     def _critical_point_exit(self) -> bool:

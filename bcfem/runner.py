@@ -71,6 +71,8 @@ class Run:
         self.petsc_options: dict[str, str] = {}
         self.dofs = 0
         self.newton_iterations = 0
+        self.failed_solves = 0
+        self.timings = dict.fromkeys(("assembly", "discrete_terms", "newton", "stability"), 0.0)
         self._problems: list[Problem] = []
 
     def prefix(self, stage: str) -> str:
@@ -101,6 +103,9 @@ class Run:
         if problem in self._problems:
             self._problems.remove(problem)
             self.newton_iterations += problem.newton_iterations
+            self.failed_solves += problem.failed_solves
+            for key, seconds in problem.timings.items():
+                self.timings[key] = self.timings.get(key, 0.0) + seconds
             problem.close()
 
     def watch(self, functions) -> None:
@@ -159,15 +164,27 @@ def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
         **run.results,
         "steps": len(run.rows),
         "newton_iterations": run.newton_iterations,
+        "failed_solves": run.failed_solves,
         "dofs": run.dofs,
         "ranks": comm.size,
-        "wall_time_s": time.perf_counter() - t0,
+        "wall_time_s": (wall := time.perf_counter() - t0),
+        "time_split_s": time_split(run.timings, wall),
         "versions": versions(),
         "petsc_options": run.petsc_options,
     }
     if error:
         raise SolveError(error, run)
     return run, run.summary
+
+
+def time_split(timings: dict, wall: float) -> dict:
+    """Where a run's wall time went: form assembly and discrete terms (self-contact) within
+    Newton, the rest of Newton (linear solves, line search, convergence tests), stability
+    checks, and everything else (meshing, compilation, observables, relaxation set-up, output)."""
+    split = {"assembly": timings["assembly"], "discrete_terms": timings["discrete_terms"],
+             "linear_solve_and_newton": timings["newton"], "stability": timings["stability"]}
+    split["other"] = wall - sum(split.values())
+    return split
 
 
 def run(scene, out: Path, comm) -> dict:

@@ -29,8 +29,15 @@ def unstable_modes(problem, multipliers: list[str] | None = None, active_tol: fl
             are skipped); default: the ones its terms declare, ``problem.multipliers``.
         active_tol: relative distance from a bound within which an unknown is held there.
     """
+    with problem.timed("stability"):
+        negative = _negative_modes(problem, active_tol)
     if multipliers is None:
         multipliers = problem.multipliers
+    return negative - problem.global_size([n for n in multipliers if n in problem.names])
+
+
+def _negative_modes(problem, active_tol: float) -> int:
+    """Negative eigenvalues of the tangent with the unknowns at a bound held."""
     jacobian, x = problem.jacobian()
     A = jacobian.copy()
     bounds = problem.bounds
@@ -45,7 +52,7 @@ def unstable_modes(problem, multipliers: list[str] | None = None, active_tol: fl
         negative = negative_eigenvalues(A, problem.prefix + "inertia_")
     finally:
         A.destroy()
-    return int(negative) - problem.global_size([n for n in multipliers if n in problem.names])
+    return int(negative)
 
 
 def negative_eigenvalues(A: PETSc.Mat, prefix: str) -> int:

@@ -30,6 +30,7 @@ raises with the last accepted value.
 from __future__ import annotations
 
 import math
+from time import perf_counter
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -238,7 +239,9 @@ class LoadPath:
             self.unstable = unstable
         if self.waves is None:
             return
+        t0 = perf_counter()
         counts = self.waves()
+        self.problem.timings["stability"] += perf_counter() - t0
         waves = _unstable_waves(counts)
         if waves != self.unstable_waves:
             # more unstable directions with n waves than axisymmetric ones: the loss of stability

@@ -39,6 +39,23 @@ def test_outputs_follow_the_contract(serial):
     assert float(rows[-1]["V_over_V0"]) == pytest.approx(6.0, abs=1e-9)
     assert not list(out.glob(".*tmp*")), "temporary files left behind"
     assert "pv.png" in res.stdout
+    # the cost: counts, and a time split that adds up to the wall time
+    assert summary["status"] == "ok" and summary["error"] is None
+    assert summary["steps"] == len(rows) and summary["newton_iterations"] >= summary["steps"]
+    split = summary["time_split_s"]
+    assert set(split) == {"assembly", "discrete_terms", "linear_solve_and_newton", "stability", "other"}
+    assert split["assembly"] > 0 and split["linear_solve_and_newton"] > 0 and split["other"] > 0
+    assert sum(split.values()) == pytest.approx(summary["wall_time_s"], rel=1e-9)
+
+
+def test_profile_prints_the_time_split(tmp_path):
+    res = bcfem("run", "blister-rigid", "--v-max", "0.5", "--cells", "20", "--quiet", "--profile",
+                "--out", tmp_path / "p")
+    assert res.returncode == 0, res.stderr
+    lines = res.stdout.splitlines()
+    assert lines[0].startswith("wall time") and "Newton iterations" in lines[0]
+    assert [line.split()[0] for line in lines[1:6]] == ["assembly", "discrete_terms", "linear_solve_and_newton",
+                                                         "stability", "other"]
 
 
 def test_mpi_gives_the_serial_branch(serial, tmp_path):

@@ -12,6 +12,7 @@ class Quadratic:
     iterations = 1
 
     def __init__(self):
+        self.timings = {"stability": 0.0}
         self.u = np.zeros(3)
         self.load = 0.0
 
