@@ -16,8 +16,8 @@ independent. The row is one more real-space row in the blocked system, so
 Newton, step control and retries are ours and the linear algebra is PETSc's
 (MUMPS). The tangent at a converged point solves
 :math:`[F_x; t_{k-1}^T]\,\tau = e_\lambda`; its λ-component changes sign at a
-limit point, which is then located by Brent's method on the arc length,
-to ``event_tol``.
+limit point, which is then located by a bracketed root finder
+(:mod:`bcfem.roots`) on the arc length, to ``event_tol``.
 
 Every step is checked: an unconverged or non-finite Newton solve is never
 accepted; the step is halved and retried down to ``ds_min``, then
@@ -40,6 +40,7 @@ from bcfem.branch import Branch, ContinuationError, LimitPoint, Switch
 from bcfem.log import progress
 from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
+from bcfem.roots import bracketed_root
 
 # the records of a branch live in bcfem.branch; they are importable from here too
 __all__ = ["ArcLength", "Branch", "ContinuationError", "LimitPoint", "Mean", "Switch"]
@@ -355,8 +356,6 @@ class ArcLength:
     def _locate(self, problem, base, tangent, ds, f_now, f0, f1) -> float:
         """Root in (0, ds) of ``f_now`` along the hyperplanes from ``base``; states end at the root."""
 
-        from scipy.optimize import brentq  # lazily: scipy.optimize costs ~0.4 s to import
-
         def f(sigma):
             if sigma <= 0:
                 return f0
@@ -366,7 +365,7 @@ class ArcLength:
                 raise ContinuationError(f"Newton failed inside an accepted step (sigma={sigma:g})")
             return f_now()
 
-        sigma = brentq(f, 0.0, ds, xtol=self.params.event_tol, rtol=4 * np.finfo(float).eps)
+        sigma = bracketed_root(f, 0.0, ds, xtol=self.params.event_tol)
         if not self._solve_at(problem, base, tangent, sigma):
             raise ContinuationError(f"Newton failed at a located event (sigma={sigma:g})")
         return sigma

@@ -36,6 +36,7 @@ from typing import Callable
 
 from bcfem.log import progress
 from bcfem.relaxation import Viscosity, relax
+from bcfem.roots import bracketed_root
 from bcfem.stability import unstable_modes
 
 
@@ -191,16 +192,15 @@ class LoadPath:
 
     def root(self, before: dict, after: float, function: Callable[[], float], xtol: float) -> float:
         """The load between the :meth:`mark` ``before`` and ``after`` where ``function`` (of the
-        current state) vanishes, to ``xtol`` (Brent); every evaluation starts from ``before``, so
-        there is no hysteresis between evaluations. The path ends at the root's state."""
-        from scipy.optimize import brentq  # lazily: scipy.optimize is slow to import
-
+        current state) vanishes, to ``xtol`` (:func:`bcfem.roots.bracketed_root`); every
+        evaluation starts from ``before``, so there is no hysteresis between evaluations. The
+        path ends at the root's state."""
         def at(load):
             start = self.rewind(before)
             self.advance(start, load, abs(load - start))
             return function()
 
-        load = brentq(at, after, before["value"], xtol=xtol)
+        load = bracketed_root(at, after, before["value"], xtol=xtol)
         at(load)
         return load
 
