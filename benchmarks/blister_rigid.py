@@ -462,7 +462,8 @@ def markdown(rows, ref, args) -> str:
 
 
 def git_state() -> str:
-    """Where bcfem is imported from, with its commit and uncommitted library changes."""
+    """The commit of the bcfem that is imported, and its uncommitted library changes (no paths:
+    the docs name no machine's directories)."""
     import importlib.util
 
     pkg = Path(importlib.util.find_spec("bcfem").origin).parent
@@ -472,10 +473,10 @@ def git_state() -> str:
         dirty = subprocess.run(["git", "status", "--porcelain", "--", "."], cwd=pkg, capture_output=True,
                                text=True, check=True).stdout.split("\n")
         dirty = [ln[3:] for ln in dirty if ln.strip()]
-        return f"{pkg} @ {head}" + (f" + uncommitted changes in {', '.join(dirty)}" if dirty else "")
+        return f"bcfem @ {head}" + (f" + uncommitted changes in {', '.join(dirty)}" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
         stamp = pkg.parent / "SNAPSHOT"  # a `git archive` export records its commit here
-        return f"{pkg} ({stamp.read_text().strip() if stamp.exists() else 'not a git checkout'})"
+        return f"bcfem ({stamp.read_text().strip() if stamp.exists() else 'not a git checkout'})"
 
 
 def cpu_name() -> str:
