@@ -100,6 +100,8 @@ def build_parser():
         _add_params(p, module.Params, getattr(module, "HELP", {}))
         p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
         p.add_argument("--quiet", action="store_true", help="no progress line")
+        p.add_argument("--plots", action=argparse.BooleanOptionalAction, default=True,
+                       help="draw the PNGs (matplotlib is loaded only to draw them)")
         p.add_argument("--profile", action="store_true",
                        help="print where the wall time went (also in summary.json: time_split_s)")
     from bcfem.scenes import STUDIES
@@ -178,7 +180,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.command == "fit":
         return _fit(parser, args, module, params, comm)
     try:
-        summary = runner.run(module.build(params, comm), args.out, comm)
+        summary = runner.run(module.build(params, comm), args.out, comm, plots=args.plots)
     except runner.SolveError as err:
         if comm.rank == 0:
             print(f"bcfem run {args.scene}: solver failed: {err}", file=sys.stderr)

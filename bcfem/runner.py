@@ -187,9 +187,9 @@ def time_split(timings: dict, wall: float) -> dict:
     return split
 
 
-def run(scene, out: Path, comm) -> dict:
+def run(scene, out: Path, comm, plots: bool = True) -> dict:
     """Solve ``scene`` and write ``out`` (also on failure, then raising :class:`SolveError`
-    after writing); returns the summary."""
+    after writing), with the scene's PNGs unless ``plots`` is False; returns the summary."""
     out = Path(out)
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
@@ -201,7 +201,7 @@ def run(scene, out: Path, comm) -> dict:
         failure, solved, summary = err, err.run, err.run.summary
     io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
     io.write_json(out / "summary.json", summary, comm)
-    if comm.rank == 0 and solved.rows:
+    if plots and comm.rank == 0 and solved.rows:
         for name, fig in scene.figures(solved.rows, summary).items():
             io.save_figure(fig, out / name, comm)
     if failure is not None:
