@@ -14,6 +14,8 @@ import sys
 import time
 from pathlib import Path
 
+from bcfem.roots import bracketed_root  # dolfinx-free
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -123,3 +125,46 @@ def atomic_text(path: Path, text: str) -> None:
     tmp = path.with_name(f".{path.name}.tmp")
     tmp.write_text(text)
     os.replace(tmp, path)
+
+
+#: the finest meshes whose differences must keep their sign and shrink for Richardson
+MONOTONE_MESHES = 4
+
+
+def observed_order(h, q):
+    """p with (q1 - q0)/(q2 - q1) = (h0^p - h1^p)/(h1^p - h2^p) (any mesh ratios), or None."""
+    d0, d1 = q[1] - q[0], q[2] - q[1]
+    if d0 == 0 or d1 == 0 or d0 * d1 < 0:
+        return None
+    f = lambda p: (h[0] ** p - h[1] ** p) / (h[1] ** p - h[2] ** p) - d0 / d1  # noqa: E731
+    try:
+        return bracketed_root(f, 0.05, 12.0, xtol=1e-12)
+    except ValueError:
+        return None
+
+
+def reference(series, monotone_meshes: int = MONOTONE_MESHES):
+    """The reference F~ of a crater's mesh sequence (rows with ``size_crater`` and ``F_tilde``,
+    coarse to fine, ok runs only).
+
+    Richardson extrapolation of the two finest meshes, with the order observed on the three
+    finest, if the finest ``monotone_meshes`` values converge monotonically (their differences keep
+    one sign and shrink in magnitude) and the order is in [0.5, 8]; else the finest mesh."""
+    h = [r["size_crater"] for r in series]
+    F = [r["F_tilde"] for r in series]
+    d = [b - a for a, b in zip(F, F[1:])]
+    tail = d[-(monotone_meshes - 1):]
+    monotone = (len(tail) == monotone_meshes - 1 and all(x * tail[0] > 0 for x in tail)
+                and all(abs(b) < abs(a) for a, b in zip(tail, tail[1:])))
+    sign_changes = sum(1 for a, b in zip(d, d[1:]) if a * b < 0)
+    ref = {"finest": series[-1]["size_crater"], "F_finest": F[-1], "monotone": monotone,
+           "sign_changes": sign_changes, "differences": d, "meshes": len(series)}
+    p = observed_order(h[-3:], F[-3:]) if len(F) >= 3 else None
+    ref["order"] = p
+    if monotone and p is not None and 0.5 <= p <= 8:
+        r = h[-2] / h[-1]
+        ref.update(F=F[-1] + (F[-1] - F[-2]) / (r**p - 1), kind="richardson",
+                   meshes_used=(h[-2], h[-1]))
+    else:
+        ref.update(F=F[-1], kind="finest")
+    return ref

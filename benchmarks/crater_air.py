@@ -49,7 +49,8 @@ import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, busy_cores, count_newton, csv_text, fmt, loadavg, wait_idle  # noqa: E402
+from common import (MONOTONE_MESHES, ROOT, atomic_text, busy_cores, count_newton, csv_text, fmt,  # noqa: E402
+                    loadavg, observed_order, reference, wait_idle)
 
 OUT = ROOT / "docs" / "benchmarks"
 BIN = Path(sys.executable).parent
@@ -65,7 +66,6 @@ MPI_BUDGET = 30.0  # [s] target of the 2-rank cycle
 COMMAND = ".venv/bin/python benchmarks/crater_air.py"
 TIGHT = "-snes_rtol 1e-14 -snes_atol 1e-13 -snes_stol 1e-15"  # the solver-tolerance check
 TIMEOUT = 180.0  # [s] a one-core run is killed after this (normal runs take 1-60 s)
-MONOTONE_MESHES = 4  # the finest meshes whose differences must keep their sign and shrink
 
 
 # ----------------------------------------------------------------------------------------
@@ -199,46 +199,6 @@ def snapshot_library() -> tuple[Path, str]:
     shutil.copytree(ROOT / "bcfem", tmp / "bcfem", ignore=shutil.ignore_patterns("__pycache__"))
     os.environ["PYTHONPATH"] = os.pathsep.join([str(tmp), *filter(None, [os.environ.get("PYTHONPATH")])])
     return tmp, library_hash(tmp / "bcfem")
-
-
-def observed_order(h, q):
-    """p with (q1 - q0)/(q2 - q1) = (h0^p - h1^p)/(h1^p - h2^p) (any mesh ratios), or None."""
-    from scipy.optimize import brentq
-
-    d0, d1 = q[1] - q[0], q[2] - q[1]
-    if d0 == 0 or d1 == 0 or d0 * d1 < 0:
-        return None
-    f = lambda p: (h[0] ** p - h[1] ** p) / (h[1] ** p - h[2] ** p) - d0 / d1  # noqa: E731
-    try:
-        return brentq(f, 0.05, 12.0)
-    except ValueError:
-        return None
-
-
-def reference(series):
-    """The reference F~ of one preload from its mesh sequence (coarse to fine, ok runs only).
-
-    Richardson extrapolation of the two finest meshes, with the order observed on the three
-    finest, if the finest MONOTONE_MESHES values converge monotonically (their differences keep
-    one sign and shrink in magnitude) and the order is in [0.5, 8]; else the finest mesh."""
-    h = [r["size_crater"] for r in series]
-    F = [r["F_tilde"] for r in series]
-    d = [b - a for a, b in zip(F, F[1:])]
-    tail = d[-(MONOTONE_MESHES - 1):]
-    monotone = (len(tail) == MONOTONE_MESHES - 1 and all(x * tail[0] > 0 for x in tail)
-                and all(abs(b) < abs(a) for a, b in zip(tail, tail[1:])))
-    sign_changes = sum(1 for a, b in zip(d, d[1:]) if a * b < 0)
-    ref = {"finest": series[-1]["size_crater"], "F_finest": F[-1], "monotone": monotone,
-           "sign_changes": sign_changes, "differences": d, "meshes": len(series)}
-    p = observed_order(h[-3:], F[-3:]) if len(F) >= 3 else None
-    ref["order"] = p
-    if monotone and p is not None and 0.5 <= p <= 8:
-        r = h[-2] / h[-1]
-        ref.update(F=F[-1] + (F[-1] - F[-2]) / (r**p - 1), kind="richardson",
-                   meshes_used=(h[-2], h[-1]))
-    else:
-        ref.update(F=F[-1], kind="finest")
-    return ref
 
 
 def self_convergence(series, key):

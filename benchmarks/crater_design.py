@@ -5,7 +5,7 @@
    the relative error of F~ (F^ = F~/beta, the same relative error) against the wall
    time of one cycle on one core, for four meshes; the reference is a Richardson
    extrapolation when the meshes converge monotonically, else the finest mesh
-   (`crater_air.reference`, the same criterion as the air-crater benchmark).
+   (`common.reference`, the same criterion as the air-crater benchmark).
 2. The wall time of each published map and the time per point, from the
    `timing.json` that `bcfem sweep` writes next to each map's `sweep.csv`
    (`docs/figures/crater_design/sweeps/<map>/`, made by `make report` or by the
@@ -30,7 +30,7 @@ import time
 from pathlib import Path
 
 from bcfem.scenes.crater.params import PRELOAD_TO_CLOSURE  # dolfinx-free
-from common import ROOT, atomic_text, busy_cores, csv_text, fmt, mpirun_bcfem, run_worker, wait_idle
+from common import ROOT, atomic_text, busy_cores, csv_text, fmt, mpirun_bcfem, reference, run_worker, wait_idle
 
 OUT = ROOT / "docs" / "benchmarks"
 MAPS = ROOT / "docs" / "figures" / "crater_design" / "sweeps"
@@ -65,8 +65,6 @@ def worker(case: dict) -> dict:
 
 
 def main() -> None:
-    from crater_air import reference
-
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sizes", type=float, nargs="+", default=SIZES)
     ap.add_argument("--two-ranks", nargs="+", default=[], metavar="MAP",
