@@ -2,6 +2,7 @@
 
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -171,3 +172,35 @@ def test_fit_recovers_known_parameters():
     assert result["converged"]
     assert result["alpha"] == pytest.approx(truth["alpha"], abs=1e-6)
     assert result["adhesion"] == pytest.approx(truth["adhesion"], abs=1e-6)
+
+
+def test_map_points_trace_one_compiled_blister(monkeypatch):
+    """Points that differ only in run-time constants (alpha, adhesion) trace one composed
+    blister again: their values equal those of a blister composed for each point, and no
+    state leaks from one point to the next (A, B, C, A repeats A exactly)."""
+    base = blister_rigid.Params(material="gent", Jm=100.0, v_max=30.0, cells=20)
+    points = [replace(base, alpha=1.0, adhesion=5.0), replace(base, alpha=3.0, adhesion=10.0),
+              replace(base, alpha=0.5, adhesion=15.0)]
+    assert blister_rigid.structure(points[0]) == blister_rigid.structure(points[1])
+    assert blister_rigid.structure(replace(base, alpha=0.0)) != blister_rigid.structure(points[0])
+    sessions = blister_studies.reusing()
+
+    def fresh(params):
+        sessions.close()
+        return blister_studies.after_onset(params, MPI.COMM_SELF)
+
+    expected = [fresh(p) for p in points]
+    sessions.close()
+    composed = []
+    compose = blister_studies.compose
+    monkeypatch.setattr(blister_studies, "compose", lambda *args: composed.append(args) or compose(*args))
+    with sessions:
+        reused = [blister_studies.after_onset(p, MPI.COMM_SELF) for p in points + points[:1]]
+        session = sessions.current
+        assert len(composed) == 1 and session.problem is not None
+    assert session.problem is None and sessions.current is None  # closed on leaving: PETSc objects destroyed
+    assert reused[3] == reused[0]
+    for got, want in zip(reused, expected):
+        assert got["onset"] and want["onset"]
+        for key in blister_studies.MAP_COLUMNS:
+            assert got[key[0]] == pytest.approx(want[key[0]], rel=1e-10, abs=0)

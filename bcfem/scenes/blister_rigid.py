@@ -16,7 +16,8 @@ aspect :math:`= z(0)/R_0`, contact angle :math:`= \pi - \phi_0^-`
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
+from typing import Callable
 
 import numpy as np
 import ufl
@@ -148,11 +149,37 @@ class Params:
         return NeoHookean(mu=self.stiffness)
 
 
-def build(params: Params, comm, extra_terms=()) -> Scene:
-    """Compose the clamped blister: mesh, terms, edge conditions, observables.
+#: Parameters that only set run-time constants (``fem.Constant``) or Python-side settings of the
+#: path (ends, step control, start, scales): a composed :class:`Model` takes new values of them
+#: without compiling (:func:`scene_for`); alpha only while > 0 (0 leaves its term out).
+RUN_TIME = ("alpha", "adhesion", "phi_Y_deg", "far_field", "v_max", "v_start", "stop_radius",
+            "start_volume", "continuation")
+
+
+def structure(params: Params) -> tuple:
+    """What a composed :class:`Model` depends on: every parameter but the :data:`RUN_TIME`
+    ones, and whether there is surface tension at all (hashable; equal keys, same model)."""
+    fixed = sorted((f.name, getattr(params, f.name)) for f in fields(params) if f.name not in RUN_TIME)
+    return (*fixed, ("surface_tension", params.alpha > 0))
+
+
+@dataclass
+class Model:
+    """The compiled part of the blister: mesh, states, terms, edge and observables."""
+
+    ctx: Context
+    terms: list
+    edge: object
+    observe: Callable[[], dict]
+    switches: list
+    structure: tuple  # of the parameters it was composed for
+
+
+def compose(params: Params, comm, extra_terms=()) -> Model:
+    """Mesh, terms, edge conditions and observables of the blister (the forms they compile).
 
     Args:
-        params: validated parameters.
+        params: validated parameters; only their :func:`structure` counts here.
         comm: the MPI communicator of the mesh.
         extra_terms: energy terms of a research script, added to the free
             energy (and to the reported energy) like the built-in ones.
@@ -170,30 +197,51 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     terms.append(PressureVolume())
     terms.extend(edge.terms)
     terms.extend(extra_terms)
-    observe = observables(ctx, terms)
     switches = []
     if edge.free is not None:
         # Griffith, no healing: the edge moves once the energy release rate -dPi/dR1 turns positive
         switches.append(Switch("delamination onset", lambda values: -values["dPi_dR1"],
                                lambda: setattr(edge.free, "value", 1.0), grows="debond_radius"))
+    return Model(ctx, terms, edge, observables(ctx, terms), switches, structure(params))
+
+
+def scene_for(model: Model, params: Params) -> Scene:
+    """The blister of ``params`` on a composed model: its run-time constants set and its
+    states put back as composed, so that the scene traces as a newly built one does.
+
+    Raises:
+        ValueError: ``params`` need another model (their :func:`structure` differs).
+    """
+    require(structure(params) == model.structure,
+            "the model was composed for parameters that differ in more than blister_rigid.RUN_TIME")
+    ctx = model.ctx
+    for term in model.terms:
+        if isinstance(term, SurfaceTension):
+            ctx.constant(term.name).value = params.alpha
+    model.edge.reset(ctx, params)
 
     def start(fraction: float = 1.0) -> float:
         return cap_guess(ctx, params, fraction * params.start_at)
 
-    return Scene(name="blister-rigid", ctx=ctx, terms=terms, bcs=edge.bcs, load="pressure",
-                 start=start, observe=observe,
+    return Scene(name="blister-rigid", ctx=ctx, terms=model.terms, bcs=model.edge.bcs, load="pressure",
+                 start=start, observe=model.observe,
                  end=lambda values: max(values["V_over_V0"] - params.v_max,
                                         values["R1_over_R0"] - params.stop_radius),
                  begin=(lambda values: params.v_start - values["V_over_V0"])
                  if params.start_at > params.v_start else None,
                  grows="V_over_V0",
-                 progress_keys=("V_over_V0", "P", "aspect"), fields=[u],
+                 progress_keys=("V_over_V0", "P", "aspect"), fields=[ctx.u],
                  continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
                  # membrane pressures are O(stiffness), a droplet's O(2 alpha)
                  load_scale=max(params.stiffness, 2 * params.alpha),
-                 guard=guard_for(params), rows=edge.rows, switches=switches,
+                 guard=guard_for(params), rows=model.edge.rows, switches=model.switches,
                  summarize=summarize, params=params, columns=COLUMNS)
+
+
+def build(params: Params, comm, extra_terms=()) -> Scene:
+    """The blister of ``params``: :func:`compose` (see its arguments), then :func:`scene_for`."""
+    return scene_for(compose(params, comm, extra_terms), params)
 
 
 def summarize(branch) -> dict:

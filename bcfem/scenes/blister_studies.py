@@ -4,11 +4,16 @@ After delamination onset an adhesive blister grows self-similarly (eq. 3.88):
 V/V1, dp R1/(mu_f t0), z(0)/R1 and the contact angle stay constant, with R1
 the current debond radius and V1 = 4/3 pi R1^3. They are therefore the values
 at the onset point itself, which is where a map point stops.
+
+Map points and fit evaluations that differ only in the run-time parameters
+(``blister_rigid.RUN_TIME``: alpha, adhesion, ...) trace one composed blister again
+(:mod:`bcfem.session`); :func:`reusing` scopes that, and the sessions are closed at exit.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from dolfinx import fem
 
@@ -17,8 +22,18 @@ from bcfem.volume_control import VolumeControl
 from bcfem.mpi import global_sum, real_value
 from bcfem.params import require
 from bcfem.problem import Problem
-from bcfem.runner import branch_of
-from bcfem.scenes.blister_rigid import V0, Params, build
+from bcfem.scenes.blister_rigid import V0, Params, build, compose, scene_for, structure
+from bcfem.session import Sessions
+
+#: the blister of the last structure traced by this process's map points and fits
+_sessions = Sessions()
+
+
+def reusing() -> Sessions:
+    """The sessions of :func:`after_onset`, as a context that closes them on leaving
+    (e.g. around a sweep, whose worker communicator is freed when it ends)."""
+    return _sessions
+
 
 def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float = 1e-4,
                     xtol: float = 1e-12) -> dict:
@@ -80,8 +95,9 @@ def after_onset(params: Params, comm) -> dict:
     ``onset: false`` (and no values) when the blister reaches v_max without
     delaminating, as neo-Hookean blisters with strong adhesion do.
     """
-    params = Params(**{**params.__dict__, "edge": "adhesive", "stop_radius": 1.02})
-    branch = branch_of(build(params, comm))
+    params = replace(params, edge="adhesive", stop_radius=1.02)
+    session = _sessions.get(structure(params), comm, lambda: compose(params, comm))
+    branch = session.trace(scene_for(session.model, params))
     onset = next((e for e in branch.events if e["name"] == "delamination onset"), None)
     if onset is None:
         return {"onset": False}
@@ -127,7 +143,8 @@ def solve_fit(aspect: float, P1: float, params: Params, comm, guess, tol: float)
             return [1e3, 1e3]
         return [values["aspect1"] / aspect - 1, values["P1"] / P1 - 1]
 
-    solution = root(residual, guess, method="hybr", options={"xtol": tol})
+    with reusing():  # every evaluation has the structure of params: one blister, closed at the end
+        solution = root(residual, guess, method="hybr", options={"xtol": tol})
     alpha, adhesion = map(float, solution.x)
     return {"alpha": alpha, "adhesion": adhesion, "converged": bool(solution.success),
             "residual": [float(r) for r in solution.fun], "evaluations": len(evaluations),

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 import ufl
@@ -45,6 +46,17 @@ class Edge:
     liquid_region: int | None = None  # cell tag of the liquid-wetted membrane (None: all)
     rows: dict = field(default_factory=dict)  # state -> callable(lagrangian) -> residual form
     free: fem.Constant | None = None  # 1 once a moving edge is released
+    #: params -> {name: value} of the run-time constants of the edge's terms
+    constants: Callable[[object], dict[str, float]] = lambda params: {}
+    #: puts the edge's own states and switches back as built (a moving front: held at R0)
+    restart: Callable[[], None] = lambda: None
+
+    def reset(self, ctx, params) -> None:
+        """The edge as :data:`EDGES` builds it for ``params``, without compiling anything:
+        its constants set from ``params`` and its states restarted."""
+        for name, value in self.constants(params).items():
+            ctx.constant(name).value = value
+        self.restart()
 
 
 def _edge(x0):
@@ -73,8 +85,12 @@ def clamped(ctx, params) -> Edge:
 
 def sliding(ctx, params) -> Edge:
     V = ctx.u.function_space
-    wet = -params.alpha * math.cos(math.radians(params.phi_Y_deg))  # (γ_ls - γ_s)/(μ t0)
-    return Edge("sliding", [_lifted_edge_bc(V), _axis_bc(V)], terms=[WettedSubstrate(wet)])
+
+    def constants(p):
+        return {"gamma_wet": -p.alpha * math.cos(math.radians(p.phi_Y_deg))}  # (γ_ls - γ_s)/(μ t0)
+
+    return Edge("sliding", [_lifted_edge_bc(V), _axis_bc(V)],
+                terms=[WettedSubstrate(constants(params)["gamma_wet"])], constants=constants)
 
 
 BLISTER, BONDED = 1, 2  # cell tags of the two zones of the slippery edge
@@ -94,9 +110,9 @@ def domain(params, comm):
 
 
 def _front(ctx):
-    """The debond radius R1 with its held/free row (held at R0 = 1 until released)."""
+    """The debond radius R1 with its held/free row (held at R0 = 1 until released), and
+    the callable that holds it at R0 again."""
     R1 = ctx.real_state("debond_radius")
-    R1.x.array[:] = 1.0
     free = fem.Constant(ctx.mesh, 0.0)
     held_at = ctx.constant("debond_radius_held", 1.0)
     q = ufl.TestFunction(R1.function_space)
@@ -106,26 +122,42 @@ def _front(ctx):
         # held before onset; the transversality condition dPi/dR1 = 0 after
         return free * ufl.derivative(lagrangian, R1, q) + (1 - free) * hold
 
-    return R1, free, {"debond_radius": row}
+    def restart():
+        R1.x.array[:] = 1.0
+        free.value = 0.0
+        held_at.value = 1.0
+
+    restart()
+    return R1, free, {"debond_radius": row}, restart
 
 
 def slippery(ctx, params) -> Edge:
     V = ctx.u.function_space
-    R1, free, rows = _front(ctx)
+    R1, free, rows, restart = _front(ctx)
     Vz, _ = V.sub(1).collapse()
     flat = fem.locate_dofs_geometrical((V.sub(1), Vz), lambda x: x[0] >= 1.0 - 1e-12)
     bcs = [fem.dirichletbc(fem.Function(Vz), flat, V.sub(1)), _axis_bc(V)]
-    terms = [WettedSubstrate(params.adhesion, region=BLISTER),
-             WettedSubstrate(-params.far_field, name="gamma_film")]
+
+    def constants(p):
+        return {"gamma_wet": p.adhesion, "gamma_film": -p.far_field}
+
+    values = constants(params)
+    terms = [WettedSubstrate(values["gamma_wet"], region=BLISTER),
+             WettedSubstrate(values["gamma_film"], name="gamma_film")]
     return Edge("slippery", bcs, terms=terms, reference=two_zone(R1, params.outer_radius),
-                rows=rows, free=free, liquid_region=BLISTER)
+                rows=rows, free=free, liquid_region=BLISTER, constants=constants, restart=restart)
 
 
 def adhesive(ctx, params) -> Edge:
     V = ctx.u.function_space
-    R1, free, rows = _front(ctx)
-    return Edge("adhesive", [_fixed_edge_bc(V), _axis_bc(V)], terms=[WettedSubstrate(params.adhesion)],
-                reference=scaled(R1), rows=rows, free=free)
+    R1, free, rows, restart = _front(ctx)
+
+    def constants(p):
+        return {"gamma_wet": p.adhesion}
+
+    return Edge("adhesive", [_fixed_edge_bc(V), _axis_bc(V)],
+                terms=[WettedSubstrate(constants(params)["gamma_wet"])], reference=scaled(R1), rows=rows,
+                free=free, constants=constants, restart=restart)
 
 
 EDGES = {"clamped": clamped, "sliding": sliding, "adhesive": adhesive, "slippery": slippery}
