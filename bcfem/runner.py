@@ -40,8 +40,9 @@ class SolveError(RuntimeError):
 
 
 def versions() -> dict:
-    import dolfinx
     from petsc4py import PETSc
+
+    import dolfinx
 
     import bcfem
 
@@ -211,7 +212,8 @@ def run(scene, out: Path, comm, plots: bool = True) -> dict:
 
 
 # -- arc-length scenes ----------------------------------------------------------------------
-def trace(scene, on_accept=None, run: Run | None = None) -> tuple[Branch, Problem]:
+def trace(scene, on_accept=None, run: Run | None = None, arc: ArcLength | None = None,
+          problem: Problem | None = None) -> tuple[Branch, Problem]:
     """Build the arc-length problem of ``scene``, start it and follow the branch.
 
     If the scene has a ``begin`` condition, the branch is first traced backwards
@@ -219,13 +221,15 @@ def trace(scene, on_accept=None, run: Run | None = None) -> tuple[Branch, Proble
     without field output), then forwards; the rows are joined in path order,
     with negative arc lengths before the start. With a ``run`` the problem is the
     run's (stage ``branch``); a :class:`ContinuationError` then carries the converged
-    part as ``err.branch`` and the problem as ``err.problem``.
+    part as ``err.branch`` and the problem as ``err.problem``. A given ``arc`` and ``problem``
+    (built for this scene's model, e.g. kept by :class:`bcfem.session.Session`) are reused.
     """
-    arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
-    arguments = (scene.ctx, scene.terms, scene.bcs)
-    options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
-                   energy_scale=scene.load_scale)
-    problem = run.problem("branch", *arguments, **options) if run else Problem(*arguments, scene.prefix, **options)
+    arc = arc or ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
+    if problem is None:
+        arguments = (scene.ctx, scene.terms, scene.bcs)
+        options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
+                       energy_scale=scene.load_scale)
+        problem = run.problem("branch", *arguments, **options) if run else Problem(*arguments, scene.prefix, **options)
     back = None
     try:
         start(arc, problem, scene)

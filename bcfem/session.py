@@ -11,13 +11,13 @@ walks points in order reuses it without knowing where the structure changes.
 from __future__ import annotations
 
 import atexit
-from typing import Callable, Hashable
+from collections.abc import Callable, Hashable
 
 from mpi4py import MPI
 
 from bcfem.continuation import ArcLength, Branch, ContinuationError
 from bcfem.problem import Problem
-from bcfem.runner import branch_of, start
+from bcfem.runner import branch_of, trace
 
 
 class Session:
@@ -61,10 +61,7 @@ class Session:
             self.arc.load_scale = float(scene.load_scale)
             self.problem.inverse_scale.value = 1.0 / scene.load_scale
         try:
-            start(self.arc, self.problem, scene)
-            forward = self.arc.forward_sign(self.problem, scene.observe, scene.grows) if scene.grows else 1
-            return self.arc.trace(self.problem, scene.observe, scene.end, scene.progress_keys,
-                                  guard=scene.guard, switches=scene.switches, direction=forward)
+            return trace(scene, arc=self.arc, problem=self.problem)[0]
         except ContinuationError:
             raise  # a failed path leaves nothing behind that the next start does not reset
         except BaseException:
