@@ -12,11 +12,12 @@
 import json
 import math
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
-import ufl
 from dolfinx import fem
-from mpi4py import MPI
+from helpers import bcfem
 
 from bcfem.context import Context
 from bcfem.geometry.substrate import WETTED, SubstrateGeometry, create_mesh
@@ -26,7 +27,6 @@ from bcfem.problem import Problem
 from bcfem.scenes import droplet_soft as ds
 from bcfem.sessile_drop import SphericalCapDrop, cap_volume
 from bcfem.theory import ridge
-from helpers import bcfem
 
 COARSE = {"size_contact": 0.01}
 
@@ -99,7 +99,8 @@ def test_residual_is_the_derivative_of_the_energy(model):
         def fill(scale, seed):
             for name, state in zip(problem.names, problem.states):
                 if name == "displacement":
-                    state.interpolate(lambda x: scale * np.vstack([x[0] * np.sin(3 * x[1] + seed), np.cos(2 * x[0] + seed)]))
+                    state.interpolate(lambda x: scale * np.vstack([x[0] * np.sin(3 * x[1] + seed),
+                                                                   np.cos(2 * x[0] + seed)]))
                 else:
                     state.x.array[:] = scale * (1 + rng.standard_normal(state.x.array.size))
                     state.x.scatter_forward()

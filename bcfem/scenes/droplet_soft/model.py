@@ -14,9 +14,9 @@ every tension ramped by the load factor from 0 to 1 (stage ``load``, adaptive st
 
 The axis has u_r = 0, the base Z = -H is bonded (u = 0) and the far rim R = L R0 slides
 (u_r = 0). The tip's angles are measured with chords to the surface points at R0 ± δ
-(δ = two contact-element sizes): the solid's (cusp) angle between the wetted and the
-dry chord, the liquid's between the wetted chord and the cap, the vapour's between
-the cap and the dry chord; they sum to 360°.
+(δ = two contact-element sizes) and R0 ± 4δ, extrapolated to δ → 0: the solid's (cusp)
+angle between the wetted and the dry chord, the liquid's between the wetted chord and the
+cap, the vapour's between the cap and the dry chord; they sum to 360°.
 """
 
 from __future__ import annotations
@@ -105,7 +105,8 @@ class DropletSoft:
                     dirichlet.component(V, 1, facets.find(BOTTOM))]
         # chords to R0 ± δ for the tip's angles: two contact elements, on the finest mesh
         self.delta = 2 * geometry.element_size(0.0)
-        points = np.array([[1.0, 0.0, 0.0], [1.0 - self.delta, 0.0, 0.0], [1.0 + self.delta, 0.0, 0.0]])
+        points = np.array([[1.0, 0.0, 0.0], [1.0 - self.delta, 0.0, 0.0], [1.0 + self.delta, 0.0, 0.0],
+                           [1.0 - 4 * self.delta, 0.0, 0.0], [1.0 + 4 * self.delta, 0.0, 0.0]])
         self._tip_points = points
         self._tip = PointEvaluator(mesh, (1.0, 0.0)).expression(self.u)
         self.profile: list[dict] = []
@@ -122,28 +123,43 @@ class DropletSoft:
             return self.theta_young
         return 2.0 * math.atan(real_value(self.ctx.real_state("cap_slope")))
 
+    def _wedges(self, x: np.ndarray, wet: int, dry: int, theta: float) -> np.ndarray:
+        """The solid, liquid and vapour wedge angles (radians) of the chords from the tip
+        x[0] to the surface points x[wet] and x[dry], and the cap at angle θ."""
+        a_wet, a_dry = (math.atan2(*(x[k] - x[0])[::-1]) for k in (wet, dry))
+        a_liq = math.pi - theta  # the cap's tangent (-cos θ, sin θ)
+        return np.array([(a_dry - a_wet) % (2 * math.pi), (a_wet - a_liq) % (2 * math.pi),
+                         (a_liq - a_dry) % (2 * math.pi)])
+
     def tip_angles(self) -> dict:
         """The tip's position and its three wedge angles (degrees), and the residual of the
-        force balance γl v + γls τ_ls + γs τ_s over the largest tension (collective)."""
-        u = sample(self.u, self._tip_points)
-        x = self._tip_points[:, :2] + u
-        tip, wet, dry = x
+        force balance γl v + γls τ_ls + γs τ_s over the largest tension (collective).
+
+        The chord angles at δ and 4δ are extrapolated to δ → 0 assuming an error ∝ δ^{1/2}
+        (observed at the neo-Hookean cusp: ``docs/results.md``), A = 2 A(δ) - A(4δ); the
+        angles of the δ chords are reported as ``*_chord_deg``."""
+        x = self._tip_points[:, :2] + sample(self.u, self._tip_points)
         theta = self.cap_angle()
-        chord_wet, chord_dry = (wet - tip) / np.linalg.norm(wet - tip), (dry - tip) / np.linalg.norm(dry - tip)
-        liquid = np.array([-math.cos(theta), math.sin(theta)])
-        a_wet, a_dry, a_liq = (math.atan2(v[1], v[0]) for v in (chord_wet, chord_dry, liquid))
+        near, far = self._wedges(x, 1, 2, theta), self._wedges(x, 3, 4, theta)
+        solid, liquid, vapour = 2 * near - far
+        # the extrapolated directions: the wet chord turned by the liquid wedge from the cap
+        a_liq = math.pi - theta
+        a_wet, a_dry = a_liq + liquid, a_liq - vapour
         p = self.params
-        balance = p.gamma_l * liquid + p.gamma_ls * chord_wet + p.gamma_s * chord_dry
-        return {"tip_r": float(tip[0]), "tip_z": float(tip[1]),
-                "cusp_angle_deg": math.degrees((a_dry - a_wet) % (2 * math.pi)),
-                "liquid_angle_deg": math.degrees((a_wet - a_liq) % (2 * math.pi)),
-                "vapour_angle_deg": math.degrees((a_liq - a_dry) % (2 * math.pi)),
+        balance = p.gamma_l * np.array([math.cos(a_liq), math.sin(a_liq)]) \
+            + p.gamma_ls * np.array([math.cos(a_wet), math.sin(a_wet)]) \
+            + p.gamma_s * np.array([math.cos(a_dry), math.sin(a_dry)])
+        return {"tip_r": float(x[0, 0]), "tip_z": float(x[0, 1]),
+                "cusp_angle_deg": math.degrees(solid), "liquid_angle_deg": math.degrees(liquid),
+                "vapour_angle_deg": math.degrees(vapour),
+                "cusp_angle_chord_deg": math.degrees(near[0]), "liquid_angle_chord_deg": math.degrees(near[1]),
+                "vapour_angle_chord_deg": math.degrees(near[2]),
                 "neumann_residual": float(np.linalg.norm(balance)) / max(p.gamma_l, p.gamma_s, p.gamma_ls)}
 
     def observe(self, load: float, iterations: int) -> dict:
         """The row of ``branch.csv`` at ``load`` (collective)."""
         p = self.params
-        u_r, u_z = self._tip()
+        _, u_z = self._tip()
         gamma_l = load * p.gamma_l
         nu = p.nu if p.model == "linear" else 0.5
         pressure = (real_value(self.ctx.real_state("drop_pressure")) if self.drop is not None
@@ -198,7 +214,8 @@ class DropletSoft:
         if last is None:
             return
         keys = ("ridge_height", "ridge_height_normalised", "cusp_angle_deg", "liquid_angle_deg", "vapour_angle_deg",
-                "neumann_residual", "cap_angle_deg", "laplace_pressure", "tip_r", "tip_z")
+                "cusp_angle_chord_deg", "liquid_angle_chord_deg", "vapour_angle_chord_deg", "neumann_residual",
+                "cap_angle_deg", "laplace_pressure", "tip_r", "tip_z")
         run.results.update({k: last[k] for k in keys})
         run.results.update({
             "load_reached": last["load"],

@@ -43,7 +43,8 @@ MODELS = ("linear", "neo-hookean")
 CONTACT_FORCES = ("liquid", "balanced")
 #: the columns of ``branch.csv``
 COLUMNS = ["load", "gamma_l", "ridge_height", "ridge_height_normalised", "tip_r", "tip_z",
-           "cap_angle_deg", "cusp_angle_deg", "liquid_angle_deg", "vapour_angle_deg", "neumann_residual",
+           "cap_angle_deg", "cusp_angle_deg", "liquid_angle_deg", "vapour_angle_deg", "cusp_angle_chord_deg",
+           "neumann_residual",
            "laplace_pressure", "newton_iterations"]
 
 
@@ -65,8 +66,10 @@ class Params:
     nu: float = field(default=0.5, metadata=_help("Poisson ratio of the linear model, in (-1, 0.5]"))
     thickness: float = field(default=0.0, metadata=_help(
         "h/R0 of a layer on a rigid base, > 0; 0 for a half-space stand-in (a block width x width)"))
-    width: float = field(default=20.0, metadata=_help("L: the block's radius (and a half-space's depth) over R0, > 1"))
-    size_contact: float = field(default=2e-3, metadata=_help("element size at the contact line over R0, in [1e-4, 0.1]"))
+    width: float = field(default=40.0, metadata=_help(
+        "L: the block's radius (and a half-space's depth) over R0, > 1"))
+    size_contact: float = field(default=2e-3, metadata=_help(
+        "element size at the contact line over R0, in [1e-4, 0.1]"))
     growth: float = field(default=1.3, metadata=_help("size ratio of neighbouring elements, in (1, 2]"))
     refine: int = field(default=0, metadata=_help("halve every element size this often, 0 to 6"))
     degree: int = field(default=2, metadata=_help("displacement degree, 2 or 3 (pressure: degree - 1)"))
