@@ -15,9 +15,11 @@ command's (Python start, meshing, assembly, solve, output) and the scene's own
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/droplet_soft.py
+    .venv/bin/python benchmarks/droplet_soft.py           # the benchmark
+    .venv/bin/python benchmarks/droplet_soft.py figures   # chapter 5's figures (serial, ~5 min)
 
-Writes ``docs/benchmarks/droplet-soft.{csv,md,png}``.
+Writes ``docs/benchmarks/droplet-soft.{csv,md,png}``; ``figures`` writes Figs. 5.4-5.9's
+counterparts and their numbers (``numbers.json``) into ``docs/figures/droplet_soft/``.
 """
 
 from __future__ import annotations
@@ -101,4 +103,9 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["figures"]:
+        from droplet_soft_figures import main as figures
+
+        figures()
+    else:
+        main()

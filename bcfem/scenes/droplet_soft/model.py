@@ -79,7 +79,7 @@ class DropletSoft:
         self.u = fem.Function(V, name="displacement")
         kin = SubstrateKinematics(self.u, quadrature_degree=2 * p.degree + 1, facet_tags=facets)
         self.ctx = Context(self.u, kin)
-        self.theta_young = p.young_angle
+        self.theta_young = p.rest_angle
         pressure_degree = p.degree - 1
         if p.model == "linear":
             pull = math.cos(self.theta_young) if p.contact_force == "liquid" else 0.0
@@ -219,7 +219,8 @@ class DropletSoft:
         run.results.update({k: last[k] for k in keys})
         run.results.update({
             "load_reached": last["load"],
-            "young_angle_deg": math.degrees(self.theta_young),
+            "young_angle_deg": math.degrees(p.young_angle),
+            "rest_angle_deg": math.degrees(self.theta_young),
             "neumann_angles_deg": neumann_angles(p.gamma_s, p.gamma_l, p.gamma_ls),
             "tip_chord": self.delta,
             "c": p.c if p.model == "linear" else None})

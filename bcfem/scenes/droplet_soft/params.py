@@ -63,6 +63,9 @@ class Params:
     gamma_l: float = field(default=0.1, metadata=_help("gamma_l/(mu R0), the liquid's tension, > 0"))
     gamma_ls: float = field(default=0.1, metadata=_help(
         "gamma_ls/(mu R0), the wetted solid's tension, >= 0, |gamma_s - gamma_ls| <= gamma_l (Young)"))
+    cap_angle: float = field(default=0.0, metadata=_help(
+        "the drop's angle at rest [deg], in (0, 180), setting its volume (and the linear loads' angle); "
+        "0 for Young's angle from the tensions", ""))
     nu: float = field(default=0.5, metadata=_help("Poisson ratio of the linear model, in (-1, 0.5]"))
     thickness: float = field(default=0.0, metadata=_help(
         "h/R0 of a layer on a rigid base, > 0; 0 for a half-space stand-in (a block width x width)"))
@@ -93,6 +96,8 @@ class Params:
             require(self.gamma_l <= self.gamma_s + self.gamma_ls,
                     f"gamma-l must be <= gamma-s + gamma-ls for Neumann's triangle (got {self.gamma_l}, "
                     f"{self.gamma_s}, {self.gamma_ls})")
+        require(self.cap_angle == 0 or 0 < self.cap_angle < 180,
+                f"cap-angle must be 0 (Young's) or in (0, 180) degrees (got {self.cap_angle})")
         require(-1 < self.nu <= 0.5, f"nu must be in (-1, 0.5] (got {self.nu})")
         require(self.thickness >= 0 and math.isfinite(self.thickness),
                 f"thickness (h/R0) must be >= 0, 0 for a half-space (got {self.thickness})")
@@ -111,6 +116,11 @@ class Params:
     def young_angle(self) -> float:
         """θ_Y from cos θ = (γs - γls)/γl (radians)."""
         return math.acos(max(-1.0, min(1.0, (self.gamma_s - self.gamma_ls) / self.gamma_l)))
+
+    @property
+    def rest_angle(self) -> float:
+        """The drop's angle at rest (radians): ``cap_angle`` or Young's."""
+        return math.radians(self.cap_angle) if self.cap_angle else self.young_angle
 
     @property
     def c(self) -> float:
