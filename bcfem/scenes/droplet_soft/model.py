@@ -1,0 +1,237 @@
+r"""The droplet-soft model: substrate mesh, terms, boundary conditions, observables, solve.
+
+Linear (§5.2, eq. 5.26):
+
+.. math:: \Pi = \int W_{lin}(\varepsilon, p)\,dV + \sum_{wet, dry} \tfrac{\gamma}{2}\int (\partial_R u_z)^2 dA
+          - \gamma_l\sin\theta\,2\pi R_0 u_z(R_0) + \tfrac{2\gamma_l\sin\theta}{R_0}\int_{wet} u_z\,dA
+          + f_t\,2\pi R_0 u_r(R_0),
+
+one linear solve (stage ``solve``). Neo-Hookean (§5.3):
+
+.. math:: L = \int W(F, p_s)\,dV + \gamma_{ls}A_{wet} + \gamma_s A_{dry} + \gamma_l A_{cap} - p\,(V - V_0),
+
+every tension ramped by the load factor from 0 to 1 (stage ``load``, adaptive steps).
+
+The axis has u_r = 0, the base Z = -H is bonded (u = 0) and the far rim R = L R0 slides
+(u_r = 0). The tip's angles are measured with chords to the surface points at R0 ± δ
+(δ = two contact-element sizes) and R0 ± 4δ, extrapolated to δ → 0: the solid's (cusp)
+angle between the wetted and the dry chord, the liquid's between the wetted chord and the
+cap, the vapour's between the cap and the dry chord; they sum to 360°.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from dolfinx import fem
+
+from bcfem import bcs as dirichlet
+from bcfem import io
+from bcfem.context import Context
+from bcfem.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
+from bcfem.linear_solid import LinearDropLoads, LinearElasticity, LinearSurfaceTension, SubstrateKinematics
+from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.mpi import PointEvaluator, real_value, sample
+from bcfem.scenes.droplet_soft.params import COLUMNS, Params
+from bcfem.sessile_drop import SphericalCapDrop, cap_volume
+from bcfem.stepping import LoadPath, SteppingError
+
+#: the three tensions' run-time constants and the Params fields of their targets
+TENSIONS = {"gamma_l": "gamma_l", "gamma_s": "gamma_s", "gamma_ls": "gamma_ls"}
+
+
+def neumann_angles(gamma_s: float, gamma_l: float, gamma_ls: float) -> dict:
+    """The angles (degrees) of the solid, liquid and vapour wedges of Neumann's triangle,
+    γl v + γls τ_ls + γs τ_s = 0: each phase's angle lies between its two interfaces."""
+    def wedge(a, b, opposite):
+        return math.degrees(math.acos(max(-1.0, min(1.0, (opposite**2 - a**2 - b**2) / (2 * a * b)))))
+
+    if min(gamma_s, gamma_l, gamma_ls) <= 0:
+        return {"solid": None, "liquid": None, "vapour": None}
+    return {"solid": wedge(gamma_ls, gamma_s, gamma_l), "liquid": wedge(gamma_ls, gamma_l, gamma_s),
+            "vapour": wedge(gamma_l, gamma_s, gamma_ls)}
+
+
+def profile_radii(width: float) -> np.ndarray:
+    """Reference radii R/R0 of the written surface profile, graded towards R0."""
+    near = np.logspace(-4, np.log10(0.5), 40)
+    return np.unique(np.concatenate([np.linspace(0.0, width, 401), 1.0 - near, 1.0 + near, [1.0]]))
+
+
+class DropletSoft:
+    """The droplet-soft scene (:mod:`bcfem.runner` solves it)."""
+
+    name = "droplet-soft"
+    stages = ("solve", "load")
+    columns = COLUMNS
+
+    def __init__(self, params: Params, comm):
+        self.params = params
+        self.comm = comm
+        p = params
+        geometry = p.geometry()
+        data = create_mesh(geometry, comm)
+        mesh, facets = data.mesh, data.facet_tags
+        self.mesh = mesh
+        V = fem.functionspace(mesh, ("Lagrange", p.degree, (2,)))
+        self.u = fem.Function(V, name="displacement")
+        kin = SubstrateKinematics(self.u, quadrature_degree=2 * p.degree + 1, facet_tags=facets)
+        self.ctx = Context(self.u, kin)
+        self.theta_young = p.rest_angle
+        pressure_degree = p.degree - 1
+        if p.model == "linear":
+            pull = math.cos(self.theta_young) if p.contact_force == "liquid" else 0.0
+            self.terms = [LinearElasticity(nu=p.nu, pressure_degree=pressure_degree),
+                          LinearSurfaceTension(p.gamma_ls, WETTED, "gamma_ls"),
+                          LinearSurfaceTension(p.gamma_s, OUTER_TOP, "gamma_s"),
+                          LinearDropLoads(p.gamma_l, self.theta_young, 1.0, WETTED, pull)]
+            self.drop = None
+        else:
+            self.volume = cap_volume(1.0, self.theta_young)
+            self.drop = SphericalCapDrop(p.gamma_l, self.volume, 1.0, WETTED)
+            self.terms = [SolidStrain(NearlyIncompressibleNeoHookean(mu=1.0, kappa=p.kappa), None, pressure_degree),
+                          SolidSurfaceEnergy(p.gamma_ls, WETTED, "gamma_ls"),
+                          SolidSurfaceEnergy(p.gamma_s, OUTER_TOP, "gamma_s"),
+                          self.drop]
+        for term in self.terms:  # create every state and constant now, in the same order on every rank
+            term.energy(self.ctx)
+        if self.drop is not None:
+            self.ctx.real_state("cap_slope").x.array[:] = math.tan(self.theta_young / 2)
+        self.bcs = [dirichlet.component(V, 0, facets.find(AXIS)),
+                    dirichlet.component(V, 0, facets.find(FAR)),
+                    dirichlet.component(V, 0, facets.find(BOTTOM)),
+                    dirichlet.component(V, 1, facets.find(BOTTOM))]
+        # chords to R0 ± δ for the tip's angles: two contact elements, on the finest mesh
+        self.delta = 2 * geometry.element_size(0.0)
+        points = np.array([[1.0, 0.0, 0.0], [1.0 - self.delta, 0.0, 0.0], [1.0 + self.delta, 0.0, 0.0],
+                           [1.0 - 4 * self.delta, 0.0, 0.0], [1.0 + 4 * self.delta, 0.0, 0.0]])
+        self._tip_points = points
+        self._tip = PointEvaluator(mesh, (1.0, 0.0)).expression(self.u)
+        self.profile: list[dict] = []
+        self.energy_scale = max(p.gamma_l, p.gamma_s, p.gamma_ls)
+
+    # -- load and observables -----------------------------------------------------------------
+    def set_load(self, load: float) -> None:
+        for name, field in TENSIONS.items():
+            self.ctx.constant(name).value = load * getattr(self.params, field)
+
+    def cap_angle(self) -> float:
+        """The cap's angle at the contact line (radians): Young's for the linear model."""
+        if self.drop is None:
+            return self.theta_young
+        return 2.0 * math.atan(real_value(self.ctx.real_state("cap_slope")))
+
+    def _wedges(self, x: np.ndarray, wet: int, dry: int, theta: float) -> np.ndarray:
+        """The solid, liquid and vapour wedge angles (radians) of the chords from the tip
+        x[0] to the surface points x[wet] and x[dry], and the cap at angle θ."""
+        a_wet, a_dry = (math.atan2(*(x[k] - x[0])[::-1]) for k in (wet, dry))
+        a_liq = math.pi - theta  # the cap's tangent (-cos θ, sin θ)
+        return np.array([(a_dry - a_wet) % (2 * math.pi), (a_wet - a_liq) % (2 * math.pi),
+                         (a_liq - a_dry) % (2 * math.pi)])
+
+    def tip_angles(self) -> dict:
+        """The tip's position and its three wedge angles (degrees), and the residual of the
+        force balance γl v + γls τ_ls + γs τ_s over the largest tension (collective).
+
+        The chord angles at δ and 4δ are extrapolated to δ → 0 assuming an error ∝ δ^{1/2}
+        (observed at the neo-Hookean cusp: ``docs/results.md``), A = 2 A(δ) - A(4δ); the
+        angles of the δ chords are reported as ``*_chord_deg``."""
+        x = self._tip_points[:, :2] + sample(self.u, self._tip_points)
+        theta = self.cap_angle()
+        near, far = self._wedges(x, 1, 2, theta), self._wedges(x, 3, 4, theta)
+        solid, liquid, vapour = 2 * near - far
+        # the extrapolated directions: the wet chord turned by the liquid wedge from the cap
+        a_liq = math.pi - theta
+        a_wet, a_dry = a_liq + liquid, a_liq - vapour
+        p = self.params
+        balance = p.gamma_l * np.array([math.cos(a_liq), math.sin(a_liq)]) \
+            + p.gamma_ls * np.array([math.cos(a_wet), math.sin(a_wet)]) \
+            + p.gamma_s * np.array([math.cos(a_dry), math.sin(a_dry)])
+        return {"tip_r": float(x[0, 0]), "tip_z": float(x[0, 1]),
+                "cusp_angle_deg": math.degrees(solid), "liquid_angle_deg": math.degrees(liquid),
+                "vapour_angle_deg": math.degrees(vapour),
+                "cusp_angle_chord_deg": math.degrees(near[0]), "liquid_angle_chord_deg": math.degrees(near[1]),
+                "vapour_angle_chord_deg": math.degrees(near[2]),
+                "neumann_residual": float(np.linalg.norm(balance)) / max(p.gamma_l, p.gamma_s, p.gamma_ls)}
+
+    def observe(self, load: float, iterations: int) -> dict:
+        """The row of ``branch.csv`` at ``load`` (collective)."""
+        p = self.params
+        _, u_z = self._tip()
+        gamma_l = load * p.gamma_l
+        nu = p.nu if p.model == "linear" else 0.5
+        pressure = (real_value(self.ctx.real_state("drop_pressure")) if self.drop is not None
+                    else 2 * gamma_l * math.sin(self.theta_young))
+        return {"load": load, "gamma_l": gamma_l, "ridge_height": float(u_z),
+                "ridge_height_normalised": float(u_z) / ((1 - nu) * gamma_l) if gamma_l > 0 else math.nan,
+                "cap_angle_deg": math.degrees(self.cap_angle()), **self.tip_angles(),
+                "laplace_pressure": pressure / gamma_l if gamma_l > 0 else math.nan,
+                "newton_iterations": iterations}
+
+    def surface_profile(self) -> list[dict]:
+        """The top surface at the profile radii (collective): reference R, current r and z,
+        and the displacement, all over R0."""
+        radii = profile_radii(self.params.width)
+        points = np.zeros((radii.size, 3))
+        points[:, 0] = radii
+        u = sample(self.u, points)
+        return [{"R_over_R0": float(R), "r": float(R + ur), "z": float(uz), "u_r": float(ur), "u_z": float(uz)}
+                for R, (ur, uz) in zip(radii, u)]
+
+    # -- the scene contract -------------------------------------------------------------------
+    def solve(self, run) -> None:
+        run.watch([self.u])
+        p = self.params
+        kwargs = dict(energy_scale=self.energy_scale)
+        if p.model == "linear":
+            with run.stage("solve", self.ctx, self.terms, self.bcs, **kwargs) as problem:
+                if not problem.solve():
+                    raise SteppingError(f"solve: the linear system did not converge ({problem.failure})", 0.0)
+                run.record(self.observe(1.0, problem.iterations))
+        else:
+            self.set_load(0.0)
+            with run.stage("load", self.ctx, self.terms, self.bcs, **kwargs) as problem:
+                path = LoadPath(problem, self.set_load, "load", check_stability=False, load_name="load")
+                path.start()
+                run.record(self.observe(0.0, 0))
+                try:
+                    path.through(0.0, 1.0, p.load_step,
+                                 lambda load: run.record(self.observe(load, problem.iterations)))
+                finally:
+                    self._finish(run)
+                return
+        self._finish(run)
+
+    def _finish(self, run) -> None:
+        """Summary entries and the profile of the last accepted state (also after a failure)."""
+        p = self.params
+        self.profile = self.surface_profile()
+        last = run.rows[-1] if run.rows else None
+        if run.fields_path is not None:
+            io.write_csv(run.fields_path.parent / "profile.csv", self.profile, self.comm)
+        if last is None:
+            return
+        keys = ("ridge_height", "ridge_height_normalised", "cusp_angle_deg", "liquid_angle_deg", "vapour_angle_deg",
+                "cusp_angle_chord_deg", "liquid_angle_chord_deg", "vapour_angle_chord_deg", "neumann_residual",
+                "cap_angle_deg", "laplace_pressure", "tip_r", "tip_z")
+        run.results.update({k: last[k] for k in keys})
+        run.results.update({
+            "load_reached": last["load"],
+            "young_angle_deg": math.degrees(p.young_angle),
+            "rest_angle_deg": math.degrees(self.theta_young),
+            "neumann_angles_deg": neumann_angles(p.gamma_s, p.gamma_l, p.gamma_ls),
+            "tip_chord": self.delta,
+            "c": p.c if p.model == "linear" else None})
+        if p.model == "linear" and p.gamma_s == p.gamma_ls and p.gamma_s > 0:
+            from bcfem.theory import ridge
+
+            theory = ridge.ridge_height(p.c, p.nu, self.theta_young, p.thickness or None) * p.gamma_l
+            run.results["ridge_height_theory"] = theory
+            run.results["ridge_height_error"] = (last["ridge_height"] - theory) / abs(theory)
+
+    def figures(self, rows, summary) -> dict:
+        from bcfem.scenes.droplet_soft.report import profile_figure
+
+        return {"profile.png": profile_figure(self.profile, self.params, summary)}

@@ -1,0 +1,227 @@
+"""Chapter 5's figures from the droplet-soft scene (serial, in one process).
+
+``.venv/bin/python benchmarks/droplet_soft.py figures`` writes into ``docs/figures/droplet_soft/``:
+
+* ``fig5_4.png``: half-space, ν = 1/2, c = 1, 10, 100, 1000: FE surfaces and the Hankel
+  solutions; the ridge height against c with the corrected asymptote and eq. 5.34 as printed;
+* ``fig5_5.png``: ν = 0.3, c = 10, r0/h = 0 (half-space), 2, 5, 10;
+* ``fig5_6.png``: ν = 1/2, r0/h = 2, μ r0/γs = 1 against the analytic solution, and Young
+  angles π/4, π/2, 3π/4 (μ r0/γs = μ r0/γl = 10), pull as eq. 5.22 and balanced;
+* ``fig5_7.png``: linear (ν = 1/2) against neo-Hookean, R0/h = 2, γ/(μ R0) = 0.01, 0.2, 0.5;
+* ``fig5_9.png``: the four systems of Table 5.1: the neo-Hookean tip angles against Neumann's;
+* ``numbers.json``: every number quoted in ``docs/results.md``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "docs" / "figures" / "droplet_soft"
+
+#: Table 5.1: E [kPa] (the dissertation's best fit where it gives one), R0 [um], thickness [um],
+#: gamma_l, gamma_s, gamma_ls [mN/m], Young angle [deg] as printed
+TABLE_5_1 = {
+    "water/PDMS": (16.0, 1000.0, 50.0, 72.0, 59.0, 16.0, 108.1),
+    "EG 40%/silicone gel": (3.0, 1000.0, 50.0, 58.0, 42.0, 23.0, 92.3),
+    "glycerol/silicone gel": (4.5, 74.5, 50.0, 46.0, 31.0, 36.0, 90.0),
+    "fluorinated oil/silicone gel": (4.5, 200.0, 23.0, 17.0, 28.0, 16.0, 40.0),
+}
+
+
+def solve(**kwargs):
+    from mpi4py import MPI
+
+    from bcfem.scenes import droplet_soft as ds
+
+    scene, rows, summary = ds.solve(ds.Params(**kwargs), MPI.COMM_SELF)
+    return scene.profile, rows, summary
+
+
+def columns(profile, *keys, lo=0.0, hi=3.0):
+    rows = [r for r in profile if lo <= r["R_over_R0"] <= hi]
+    return [np.array([r[k] for r in rows]) for k in keys]
+
+
+def fig5_4(plt, numbers):
+    from bcfem.theory import ridge
+
+    nu, gamma_l = 0.5, 0.1
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    heights = {}
+    for k, c in enumerate((1, 10, 100, 1000)):
+        gamma_s = 1 / ((1 - nu) * c)
+        profile, _, s = solve(gamma_s=gamma_s, gamma_ls=gamma_s, gamma_l=gamma_l, nu=nu,
+                              size_contact=min(2e-3, 0.2 * gamma_s), width=80)
+        R, ur, uz = columns(profile, "R_over_R0", "u_r", "u_z")
+        exact = ridge.surface_displacement(R[R != 1], c, nu)
+        for ax, fe, th in ((axes[0], ur, exact.u_r), (axes[1], uz, exact.u_z)):
+            ax.plot(R, fe / gamma_l, f"C{k}-", label=f"c = {c}")
+            ax.plot(R[R != 1], th, "k--", lw=0.8)
+        heights[c] = {"fe": s["ridge_height"] / gamma_l, "theory": s["ridge_height_theory"] / gamma_l,
+                      "error": s["ridge_height_error"]}
+    axes[0].set_ylabel("mu u_r / gamma_l")
+    axes[1].set_ylabel("mu u_z / gamma_l")
+    for ax in axes[:2]:
+        ax.set_xlabel("r / r0")
+        ax.legend(fontsize=8)
+    cs = np.logspace(0, 3.5, 30)
+    theory = [ridge.ridge_height(c, nu) / (1 - nu) for c in cs]
+    axes[2].semilogx(cs, theory, "C0-", label="Hankel solution")
+    axes[2].semilogx(cs, [ridge.ridge_height_asymptote(c, nu) / (1 - nu) for c in cs], "k--",
+                     label="(ln c + C)/pi + 1/c (corrected asymptote)")
+    axes[2].semilogx(cs, np.log(cs) / np.pi**0.25, "C1:", label="ln c / pi^(1/4) (eq. 5.34 as printed)")
+    axes[2].semilogx(list(heights), [h["fe"] / (1 - nu) for h in heights.values()], "ro", label="FE")
+    axes[2].set_xlabel("c = mu r0 / ((1 - nu) gamma_s)")
+    axes[2].set_ylabel("mu u_z(r0) / ((1 - nu) gamma_l)")
+    axes[2].legend(fontsize=7)
+    fig.suptitle("Fig. 5.4: half-space, nu = 0.5 (dashed: theory/ridge.py)", fontsize=10)
+    numbers["fig5_4"] = {str(c): h for c, h in heights.items()}
+    return fig
+
+
+def fig5_5(plt, numbers):
+    from bcfem.theory import ridge
+
+    nu, c, gamma_l = 0.3, 10.0, 0.1
+    gamma_s = 1 / ((1 - nu) * c)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    found = {}
+    for k, ratio in enumerate((0, 2, 5, 10)):
+        thickness = 1 / ratio if ratio else 0.0
+        profile, _, s = solve(gamma_s=gamma_s, gamma_ls=gamma_s, gamma_l=gamma_l, nu=nu, thickness=thickness,
+                              width=80 if ratio == 0 else 6)
+        R, ur, uz = columns(profile, "R_over_R0", "u_r", "u_z")
+        exact = ridge.surface_displacement(R[R != 1], c, nu, thickness=thickness or None)
+        for ax, fe, th in ((axes[0], ur, exact.u_r), (axes[1], uz, exact.u_z)):
+            ax.plot(R, fe / gamma_l, f"C{k}-", label=f"r0/h = {ratio}")
+            ax.plot(R[R != 1], th, "k--", lw=0.8)
+        found[ratio] = {"fe": s["ridge_height"] / gamma_l, "theory": s["ridge_height_theory"] / gamma_l,
+                        "error": s["ridge_height_error"]}
+    for ax, label in zip(axes[:2], ("mu u_r / gamma_l", "mu u_z / gamma_l")):
+        ax.set_xlabel("r / r0")
+        ax.set_ylabel(label)
+        ax.legend(fontsize=8)
+    axes[2].plot(list(found), [f["fe"] for f in found.values()], "ro-", label="FE")
+    axes[2].plot(list(found), [f["theory"] for f in found.values()], "k+", ms=10, label="Hankel")
+    axes[2].set_xlabel("r0 / h (0: half-space)")
+    axes[2].set_ylabel("mu u_z(r0) / gamma_l")
+    axes[2].legend(fontsize=8)
+    fig.suptitle("Fig. 5.5: layers, nu = 0.3, c = 10", fontsize=10)
+    numbers["fig5_5"] = {str(k): v for k, v in found.items()}
+    return fig
+
+
+def fig5_6(plt, numbers):
+    from bcfem.theory import ridge
+
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    gamma_l = 0.1
+    profile, _, s = solve(gamma_s=1.0, gamma_ls=1.0, gamma_l=gamma_l, nu=0.5, thickness=0.5, width=6)
+    R, ur, uz = columns(profile, "R_over_R0", "u_r", "u_z")
+    exact = ridge.surface_displacement(R[R != 1], 2.0, 0.5, thickness=0.5)
+    for ax, fe, th, label in ((axes[0], ur, exact.u_r, "mu u_r / gamma_l"), (axes[1], uz, exact.u_z,
+                                                                             "mu u_z / gamma_l")):
+        ax.plot(R, fe / gamma_l, "r-", label="FE")
+        ax.plot(R[R != 1], th, "k--", label="analytic")
+        ax.set_xlabel("r / r0")
+        ax.set_ylabel(label)
+        ax.legend(fontsize=8)
+    numbers["fig5_6"] = {"ridge_height": s["ridge_height"] / gamma_l, "theory": s["ridge_height_theory"] / gamma_l,
+                         "error": s["ridge_height_error"],
+                         "max_u_r_deviation": float(np.max(np.abs(ur[R != 1] / gamma_l - exact.u_r)))}
+    young = {}
+    for k, theta in enumerate((math.pi / 4, math.pi / 2, 3 * math.pi / 4)):
+        gamma_ls = 0.1 - 0.1 * math.cos(theta)
+        for force, style in (("liquid", "-"), ("balanced", ":")):
+            profile, _, s = solve(gamma_s=0.1, gamma_ls=gamma_ls, gamma_l=0.1, nu=0.5, thickness=0.5, width=6,
+                                  contact_force=force)
+            R, r, z = columns(profile, "R_over_R0", "r", "z")
+            label = f"theta_Y = {round(math.degrees(theta))} deg, {force}"
+            axes[2].plot(r, z / 0.1, f"C{k}{style}", label=label)
+            young[label] = {"ridge_height": s["ridge_height"] / 0.1, "u_r_tip": (s["tip_r"] - 1) / 0.1}
+    axes[2].set_xlabel("r / r0")
+    axes[2].set_ylabel("mu z / gamma_l")
+    axes[2].legend(fontsize=6)
+    fig.suptitle("Fig. 5.6: nu = 0.5, r0/h = 2; (a, b) mu r0/gamma_s = 1; (c) mu r0/gamma_s = mu r0/gamma_l = 10",
+                 fontsize=10)
+    numbers["fig5_6e"] = young
+    return fig
+
+
+def fig5_7(plt, numbers):
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    found = {}
+    for ax, gamma in zip(axes, (0.01, 0.2, 0.5)):
+        tensions = {"gamma_s": gamma, "gamma_l": gamma, "gamma_ls": gamma}
+        lin, _, sl = solve(nu=0.5, thickness=0.5, width=6, **tensions)
+        nh, _, sn = solve(model="neo-hookean", thickness=0.5, width=6, load_step=0.1, **tensions)
+        for profile, style, label in ((lin, "r--", "linear, nu = 0.5"), (nh, "b-", "neo-Hookean")):
+            _, r, z = columns(profile, "R_over_R0", "r", "z", hi=2.5)
+            ax.plot(r, z, style, label=label)
+        ax.set_title(f"gamma / (mu R0) = {gamma}", fontsize=9)
+        ax.set_xlabel("r / R0")
+        ax.set_ylabel("z / R0")
+        ax.legend(fontsize=8)
+        found[str(gamma)] = {"linear": sl["ridge_height"], "neo_hookean": sn["ridge_height"],
+                             "r0_over_R0": sn["tip_r"], "cap_angle_deg": sn["cap_angle_deg"],
+                             "cusp_angle_deg": sn["cusp_angle_deg"], "linear_cusp_angle_deg": sl["cusp_angle_deg"]}
+    fig.suptitle("Fig. 5.7: R0/h = 2, gamma_l = gamma_s = gamma_ls", fontsize=10)
+    numbers["fig5_7"] = found
+    return fig
+
+
+def fig5_9(plt, numbers):
+    found = {}
+    for name, (E, R0, h, gl, gs, gls, angle) in TABLE_5_1.items():
+        mu_r0 = E * 1e3 / 3 * R0 * 1e-6 * 1e3  # mu R0 in mN/m (incompressible: mu = E/3)
+        tensions = {"gamma_l": gl / mu_r0, "gamma_s": gs / mu_r0, "gamma_ls": gls / mu_r0}
+        tip = min(tensions.values()) * 0.05
+        _, _, s = solve(model="neo-hookean", thickness=h / R0, width=min(6.0, 1 + 40 * h / R0),
+                        size_contact=max(1e-4, min(2e-3, tip)), load_step=0.1, cap_angle=angle, **tensions)
+        found[name] = {"E_kPa": E, "gamma_over_mu_R0": tensions, "h_over_R0": h / R0,
+                       "young_deg": s["young_angle_deg"], "rest_angle_deg": angle, "cap_angle_deg": s["cap_angle_deg"],
+                       "cusp_angle_deg": s["cusp_angle_deg"], "cusp_angle_chord_deg": s["cusp_angle_chord_deg"],
+                       "liquid_angle_deg": s["liquid_angle_deg"], "vapour_angle_deg": s["vapour_angle_deg"],
+                       "neumann_deg": s["neumann_angles_deg"], "neumann_residual": s["neumann_residual"],
+                       "ridge_height_um": s["ridge_height"] * R0, "status": s["status"]}
+    fig, ax = plt.subplots(figsize=(7, 3.8))
+    names = list(found)
+    x = np.arange(len(names))
+    ax.bar(x - 0.2, [found[n]["cusp_angle_deg"] for n in names], 0.4, label="FE neo-Hookean, tip (extrapolated)")
+    ax.bar(x + 0.2, [found[n]["neumann_deg"]["solid"] for n in names], 0.4, label="Neumann's triangle")
+    ax.set_xticks(x, [n.replace("/", "/\n") for n in names], fontsize=7)
+    ax.set_ylabel("solid (cusp) angle theta_s [deg]")
+    ax.legend(fontsize=8)
+    ax.set_title("Fig. 5.9: cusp angles of Table 5.1's systems", fontsize=10)
+    numbers["fig5_9"] = found
+    return fig
+
+
+def main() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import bcfem  # noqa: F401
+    from bcfem.log import configure
+
+    configure(quiet=True)
+    OUT.mkdir(parents=True, exist_ok=True)
+    numbers: dict = {}
+    for name, draw in (("fig5_4", fig5_4), ("fig5_5", fig5_5), ("fig5_6", fig5_6), ("fig5_7", fig5_7),
+                       ("fig5_9", fig5_9)):
+        fig = draw(plt, numbers)
+        fig.savefig(OUT / f"{name}.png", dpi=130, bbox_inches="tight")
+        plt.close(fig)
+        (OUT / "numbers.json").write_text(json.dumps(numbers, indent=1))
+        print(name, json.dumps(numbers[name] if name in numbers else None)[:2000], flush=True)
+
+
+if __name__ == "__main__":
+    main()
