@@ -24,5 +24,6 @@ class _Lazy(Mapping):
         return len(self._paths)
 
 
-REGISTRY = _Lazy({"blister-rigid": "bcfem.scenes.blister_rigid", "crater": "bcfem.scenes.crater"})
+REGISTRY = _Lazy({"blister-rigid": "bcfem.scenes.blister_rigid", "blister-soft": "bcfem.scenes.blister_soft",
+                  "crater": "bcfem.scenes.crater"})
 STUDIES = _Lazy({"blister-rigid": "bcfem.scenes.blister_studies", "crater": "bcfem.scenes.crater"})
