@@ -94,7 +94,7 @@ class Params:
     growth: float = 1.25
     refine: int = 0
     kappa_ratio: float = 1e4
-    continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds=0.02, ds_max=0.1))
+    continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds=0.02, ds_max=0.05))
 
     CHOICES = {"material": sorted(MATERIALS), "edge": list(EDGES)}
 

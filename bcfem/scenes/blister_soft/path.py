@@ -5,8 +5,9 @@ A soft substrate cannot be reached from a flat guess: the line force of the memb
 the interfaces at the contact line indents it by O(gamma/mu_s), of the order of R0 at
 mu_s R0/(mu_f t0) = 1. So the first point is converged on a stiff substrate (the blister is
 then close to the rigid one, and a cap is a good guess), and the modulus k (a run-time
-constant) is lowered to its value in geometric steps, the membrane's shape held by the
-arc-length start row (its amplitude along the cap). The branch is then traced in P from
+constant) is lowered to its value in geometric steps (and large interface energies raised
+from O(1) to theirs), the membrane's shape held by the arc-length start row (its amplitude
+along the cap). The branch is then traced in P from
 that point, first back to ``v_start`` if it moved, then forwards to ``v_max``.
 """
 
@@ -26,7 +27,7 @@ STIFF_START = 1e3
 class SoftScene(Scene):
     """An arc-length scene whose arc length is measured on the wetted surface by the
     substrate's displacement and the membrane's lift together (``norm``, ``mean``), and whose
-    start is softened from a stiff substrate (:func:`soften`)."""
+    start is softened from a stiff substrate (:func:`homotopy`)."""
 
     norm: dict | None = None
     mean: object = None
@@ -48,26 +49,45 @@ def _empty():
     return Branch()
 
 
-def soften(problem, constant, target: float, first: float, factor: float = 0.5, min_factor: float = 0.97) -> int:
-    """Lower ``constant`` from ``first`` to ``target`` by steps of ``factor`` (halved in log
-    on failure, down to ``min_factor``); returns the number of solves. The problem's rows stay
-    as they are (the arc-length start row)."""
-    k, solves = first, 0
-    while k > target:
+def homotopy(problem, path, dt: float = 0.125, dt_min: float = 1e-3) -> int:
+    """Move the model along ``path(t)`` (it sets run-time constants) from t = 0, where the
+    problem's states are converged, to t = 1, re-solving at each step (halved on failure,
+    doubled after a success, down to ``dt_min``); returns the number of solves. The
+    problem's rows stay as they are (the arc-length start row)."""
+    t, solves = 0.0, 0
+    while t < 1.0:
         saved = problem.save()
-        trial = max(k * factor, target)
-        constant.value = trial
+        trial = min(1.0, t + dt)
+        path(trial)
         solves += 1
         if problem.solve():
-            k = trial
+            t, dt = trial, 2 * dt
             continue
         problem.restore(saved)
-        constant.value = k
-        factor = math.sqrt(factor)
-        if factor > min_factor:
-            raise ContinuationError(f"softening the substrate stalled at stiffness ratio {k:.6g} "
-                                    f"(target {target:g}; {problem.failure})")
+        path(t)
+        dt /= 2
+        if dt < dt_min:
+            raise ContinuationError(f"the start homotopy stalled at t = {t:.6g} ({problem.failure})")
     return solves
+
+
+def start_path(ctx, params):
+    """The homotopy from a stiff substrate with interface energies of at most O(1) to the
+    parameters: the stiffness ratio geometrically, the interface energies linearly."""
+    k1 = params.stiffness_ratio
+    k0 = max(k1, STIFF_START)
+    # the constants of the interface terms the scene holds (only those > 0)
+    gammas = {name: getattr(params, attr) for name, attr in
+              (("gamma_l", "alpha"), ("gamma_ls", "gamma_ls"), ("delta_gamma", "delta_gamma"))
+              if getattr(params, attr) > 0}
+    shrink = min(1.0, 1.0 / max([*gammas.values(), 1e-300]))
+
+    def path(t):
+        ctx.constant("stiffness_ratio").value = k0 * (k1 / k0) ** t
+        for name, gamma in gammas.items():
+            ctx.constant(name).value = gamma * (shrink + t * (1 - shrink))
+
+    return path
 
 
 def trace(scene: SoftScene, on_accept=None, run=None):
@@ -82,13 +102,12 @@ def trace(scene: SoftScene, on_accept=None, run=None):
     else:
         from bcfem.problem import Problem
         problem = Problem(*arguments, scene.prefix, **options)
-    stiffness = scene.ctx.constant("stiffness_ratio")
-    target = params.stiffness_ratio
+    path = start_path(scene.ctx, params)
     try:
-        stiffness.value = max(target, STIFF_START)
+        path(0.0)
         start(arc, problem, scene)
-        solves = soften(problem, stiffness, target, max(target, STIFF_START))
-        logger.info(f"blister-soft: softened the substrate to {target:g} in {solves} solves")
+        solves = homotopy(problem, path)
+        logger.info(f"blister-soft: reached the parameters from a stiff start in {solves} solves")
         arc.restart_row(problem)
         forward = arc.forward_sign(problem, scene.observe, scene.grows)
         back = None
