@@ -288,3 +288,32 @@ def summarize(branch) -> dict:
             v = -c[1] / (2 * c[0])
             result = {"V_over_V0": float(v), "depth": float(np.polyval(c, v)), "interior": True}
     return {"indentation_max": result}
+
+
+def contact_forces(model: Model) -> dict:
+    """The line force (per current length of the contact line) that each term exerts on the
+    substrate's contact vertex: minus the term's residual at the vertex's two displacement
+    dofs over 2 pi r0. At equilibrium they sum to zero; the contact-line conditions are
+    natural when the bulk's share (``stiffness_ratio*solid_strain``) vanishes as the mesh is
+    refined, the membranes' and interfaces' forces then balancing alone (collective)."""
+    import dolfinx.fem.petsc  # noqa: F401
+
+    V = model.u.function_space
+    dofs = fem.locate_dofs_geometrical(V, lambda x: np.isclose(x[0], 1.0) & np.isclose(x[1], 0.0))
+    owned = dofs[dofs < V.dofmap.index_map.size_local]
+    r0 = 1.0 + float(PointEvaluator(model.mesh, [1.0, 0.0]).expression(model.u)()[0])
+    v = ufl.TestFunction(V)
+    forces = {}
+    for term in model.terms:
+        form = model.form(ufl.derivative(term.energy(model.ctx), model.u, v))
+        vec = fem.assemble_vector(form)
+        vec.scatter_reverse(dolfinx_la_add())
+        local = -vec.array.reshape(-1, 2)[owned].sum(axis=0) if owned.size else np.zeros(2)
+        forces[term.name] = model.mesh.comm.allreduce(local) / (2 * math.pi * r0)
+    return forces
+
+
+def dolfinx_la_add():
+    from dolfinx import la
+
+    return la.InsertMode.add
