@@ -137,7 +137,8 @@ def write(study, far, family, t_family, load) -> None:
          f"Command: `{COMMAND}` (load average before: {load}). Neo-Hookean membrane and substrate "
          "(kappa/mu_s = 1e4), gamma_l = gamma_ls = dgamma = 0.5 mu_f t0, bonded edge, L = 10.", "",
          "## P_max at mu_s R0/(mu_f t0) = 1 against mesh and wall time (one core each)", "",
-         f"Reference: Richardson from the two finest meshes with the observed order {order:.2f}: "
+         f"Reference: Richardson from the two finest meshes with the "
+         f"{'observed' if len(P) >= 3 else 'assumed (two levels)'} order {order:.2f}: "
          f"P_max = {reference:.8f}.", "",
          "| refine | dofs | steps | wall time [s] | P_max | V/V0 at P_max | rel. error |",
          "| --- | --- | --- | --- | --- | --- | --- |"]
