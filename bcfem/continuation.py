@@ -115,7 +115,9 @@ class ArcLength:
         # the tangent parts hold t_i / scale_i^2, so the row is <t, x - x_a> in the scaled product
         along = [ufl.inner(self._tangent_parts[n], fields[n] - self._anchor_parts[n]) for n in fields]
         self._row = mean((reduce(operator.add, along) + self.t_lam * (lam - self.lam_anchor)) * q)
-        self._norm2 = fem.form(mean(reduce(operator.add, [ufl.inner(w, w) for w in self._work.values()])))
+        # a state on a boundary submesh (a membrane's lift) needs the context's entity maps
+        self._norm2 = fem.form(mean(reduce(operator.add, [ufl.inner(w, w) for w in self._work.values()])),
+                               entity_maps=ctx.entity_maps or None)
 
     def rows(self) -> dict:
         return {self.parameter: self._row}

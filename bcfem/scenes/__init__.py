@@ -24,6 +24,6 @@ class _Lazy(Mapping):
         return len(self._paths)
 
 
-REGISTRY = _Lazy({"blister-rigid": "bcfem.scenes.blister_rigid", "crater": "bcfem.scenes.crater",
-                  "droplet-soft": "bcfem.scenes.droplet_soft"})
+REGISTRY = _Lazy({"blister-rigid": "bcfem.scenes.blister_rigid", "blister-soft": "bcfem.scenes.blister_soft",
+                  "crater": "bcfem.scenes.crater", "droplet-soft": "bcfem.scenes.droplet_soft"})
 STUDIES = _Lazy({"blister-rigid": "bcfem.scenes.blister_studies", "crater": "bcfem.scenes.crater"})

@@ -1,0 +1,319 @@
+r"""The blister on a soft substrate as one energy: mesh, states, terms, conditions, observables.
+
+In units of :math:`\mu_f t_0 R_0^2` (lengths by :math:`R_0`), with :math:`dA = 2\pi R\,dR`
+on the substrate's top :math:`Z = 0` and :math:`dV = 2\pi R\,dR\,dZ` in it,
+
+.. math:: \Pi = \underbrace{\int_{R<1} W_f(I_1^f)\,dA + \int_{R>1} W_f(I_1^s)\,dA}_{U_f}
+          + \underbrace{\int k\,W_s(F, p)\,dV}_{U_s} - P\,V
+          + \alpha \int_{R<1} \lambda_r^f\lambda_\theta^f\,dA
+          + \gamma_{ls}\int_{R<1}\lambda_r^s\lambda_\theta^s\,dA
+          + \Delta\gamma\int_{R>1}\lambda_r^s\lambda_\theta^s\,dA,
+
+:math:`k = \mu_s R_0/(\mu_f t_0)`, :math:`W_s` the nearly incompressible neo-Hookean law
+with its mixed pressure, the free membrane :math:`x_f = x_s + w` (superscript f) and the
+substrate's surface :math:`x_s` (superscript s, also the bonded membrane's position), and
+the liquid volume :math:`V = -\int_0^1 \pi(r_f^2 z_f' - r_s^2 z_s')\,dR`. The states:
+the substrate's displacement (P2) and pressure (P1), the lift w (P2 on the wetted facets,
+0 at the contact vertex), and P (the arc-length load).
+
+Natural conditions. Varying the lift at the contact vertex is excluded (w = 0 there), so
+the membrane's material point R0 stays on the substrate's; varying the substrate's
+displacement there collects every line force at the contact line,
+
+.. math:: (N_r^- + \alpha)\,e_f + \gamma_{ls}\,e_{ls} + (N_r^+ + \Delta\gamma)\,e_s = 0,
+
+with :math:`e_f, e_{ls}, e_s` the unit tangents leaving the contact line along the free
+membrane, the wetted substrate and the bonded membrane, and :math:`N_r^\mp` the membrane's
+meridian tractions on either side (the bulk carries no line force at finite energy). That is
+eqs. 4.52-4.53; with :math:`N_r \to 0` (membrane-free limit) it is Neumann's triangle. The
+scene only writes Π; the observables measure the three tangents (:func:`contact_line`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import ufl
+from dolfinx import default_scalar_type, fem
+
+from bcfem.bcs import component
+from bcfem.context import Context
+from bcfem.energies import MembraneStrain, PressureVolume, SolidStrain, SurfaceTension
+from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
+from bcfem.interface import LiquidGap, MembraneSurface, OnSurface, Scaled
+from bcfem.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
+from bcfem.mpi import PointEvaluator, global_sum, real_value
+from bcfem.scene import Scene
+from bcfem.scenes.blister_soft.path import SoftScene
+from bcfem.scenes.blister_soft.params import COLUMNS, Params
+from bcfem.solid import AxisymmetricSolid
+from bcfem.submesh import BoundaryPatch
+from bcfem.theory.membrane import droplet_angle_from_volume, simple_membrane_pressure
+
+V0 = 4.0 * math.pi / 3.0  # 4/3 pi R0^3
+LIFT = ("Lagrange", 2, (2,))
+
+
+class Model:
+    """The composed model: the mesh and its patch, the states, the surfaces and the terms."""
+
+    def __init__(self, params: Params, comm, data=None):
+        self.params = params
+        g = params.geometry()
+        self.geometry = g
+        data = data or create_mesh(g, comm)
+        msh, facets = data.mesh, data.facet_tags
+        self.mesh, self.facets = msh, facets
+        V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
+        self.u = fem.Function(V, name="displacement")
+        solid = AxisymmetricSolid(self.u, quadrature_degree=4, facet_tags=facets)
+        self.ctx = Context(self.u, solid)
+        self.patch = BoundaryPatch(msh, facets, WETTED)
+        self.w = self.patch.state(self.ctx, "lift", LIFT)
+        degree = 8  # the membranes' rational densities on P2 meridians
+        L = g.size_factor
+        self.free = MembraneSurface(solid, facets, WETTED, (0.0, 1.0), (self.w, self.patch.grad(self.w)[:, 0]),
+                                    degree)
+        self.wetted = MembraneSurface(solid, facets, WETTED, (0.0, 1.0), None, degree)
+        self.bonded = MembraneSurface(solid, facets, OUTER_TOP, (1.0, L), None, degree)
+        self.gap = LiquidGap(self.free, self.wetted)
+        membrane = params_material(params)
+        # in units of mu_s (its mixed pressure too), times k = mu_s R0/(mu_f t0), a constant
+        substrate = NearlyIncompressibleNeoHookean(mu=1.0, kappa=params.kappa_ratio)
+        self.terms = [Scaled(SolidStrain(substrate), "stiffness_ratio", params.stiffness_ratio),
+                      OnSurface(MembraneStrain(membrane), self.free, "free"),
+                      OnSurface(MembraneStrain(membrane), self.bonded, "bonded"),
+                      OnSurface(PressureVolume(), self.gap, "liquid")]
+        for gamma, name, surface in ((params.alpha, "gamma_l", self.free),
+                                     (params.gamma_ls, "gamma_ls", self.wetted),
+                                     (params.delta_gamma, "delta_gamma", self.bonded)):
+            if gamma > 0:
+                self.terms.append(OnSurface(SurfaceTension(gamma, name), surface, name))
+        # the flat state's interface energies of the substrate, left out of the reported energy
+        self.energy_offset = params.gamma_ls + params.delta_gamma * (L**2 - 1)
+        self.bcs = self._bcs(V, facets)
+        for term in self.terms:  # create every state now (the pressures)
+            term.energy(self.ctx)
+
+    def _bcs(self, V, facets):
+        """Bottom fixed, far side on rollers, axis u_r = 0; the lift is 0 at the contact
+        vertex (the membrane's material point R0 is the substrate's) and w_r = 0 on the axis."""
+        zero = np.zeros(2, dtype=default_scalar_type)
+        bottom = fem.locate_dofs_topological(V, 1, facets.find(BOTTOM))
+        W = self.w.function_space
+        return [fem.dirichletbc(zero, bottom, V),
+                component(V, 0, facets.find(FAR)), component(V, 0, facets.find(AXIS)),
+                fem.dirichletbc(zero, self.patch.vertex_dofs(W, (1.0, 0.0)), W),
+                fem.dirichletbc(default_scalar_type(0), self.patch.vertex_dofs(W.sub(0), (0.0, 0.0)), W.sub(0))]
+
+    def form(self, expr):
+        return fem.form(expr, entity_maps=self.ctx.entity_maps)
+
+    def cap_guess(self, v_over_v0: float) -> float:
+        """Flat substrate, the membrane a spherical cap of volume V/V0 on the unit base (points
+        spread uniformly along the arc); returns a pressure guess (simple membrane theory plus
+        Laplace)."""
+        theta = droplet_angle_from_volume(v_over_v0)
+        rho = 1.0 / math.sin(theta)
+        self.u.x.array[:] = 0.0
+        for name, state in self.ctx.states.items():
+            if name not in ("displacement", "lift"):
+                state.x.array[:] = 0.0
+        self.w.interpolate(lambda x: np.vstack([rho * np.sin(theta * x[0]) - x[0],
+                                                rho * (np.cos(theta * x[0]) - math.cos(theta))]))
+        p = self.params
+        return min(float(simple_membrane_pressure(v_over_v0)), 2.0) + 2.0 * p.alpha * math.sin(theta)
+
+
+def params_material(params: Params):
+    return Gent(Jm=params.Jm) if params.material == "gent" else NeoHookean()
+
+
+def traction_factor(material, I1: float) -> float:
+    """dW/dI1 of the membrane's material at I1 (neo-Hookean or Gent, mu = 1)."""
+    if isinstance(material, Gent) and math.isfinite(material.Jm):
+        return 0.5 / (1 - (I1 - 3) / material.Jm)
+    return 0.5
+
+
+class ContactLine:
+    """The three meridian tangents at the contact vertex (R0, 0), on every rank.
+
+    The substrate's one-sided slopes come from its P2 displacement in the cells on either
+    side of the vertex on the top; the lift's from its P2 values on the patch cell that ends
+    at the vertex (a quadratic through its three nodes)."""
+
+    def __init__(self, model: Model):
+        msh = model.mesh
+        h = 1e-7
+        grad = ufl.grad(model.u)[:, 0]
+        self.inside = PointEvaluator(msh, [1.0 - h, 0.0]).expression(grad)
+        self.outside = PointEvaluator(msh, [1.0 + h, 0.0]).expression(grad)
+        self.at = PointEvaluator(msh, [1.0, 0.0]).expression(model.u)
+        self.w = model.w
+        W = self.w.function_space
+        sub = model.patch.mesh
+        x = W.tabulate_dof_coordinates()
+        n_owned = sub.topology.index_map(1).size_local
+        self.cell_dofs = None
+        for c in range(n_owned):
+            dofs = W.dofmap.cell_dofs(c)
+            if np.any(np.isclose(x[dofs, 0], 1.0) & np.isclose(x[dofs, 1], 0.0)):
+                self.cell_dofs = dofs
+                self.cell_R = x[dofs, 0]
+        self.comm = msh.comm
+
+    def lift_slope(self) -> np.ndarray:
+        """dw/dR at R0- (a quadratic through the cell's three nodes)."""
+        value = np.zeros(2)
+        if self.cell_dofs is not None:
+            values = self.w.x.array.reshape(-1, 2)[self.cell_dofs]
+            for k in range(2):
+                coefficients = np.polyfit(self.cell_R, values[:, k], 2)
+                value[k] = np.polyval(np.polyder(coefficients), 1.0)
+        # one owner: the patch cell is owned by one rank
+        found = self.comm.allreduce(1 if self.cell_dofs is not None else 0)
+        return self.comm.allreduce(value) / max(found, 1)
+
+    def __call__(self) -> dict:
+        inside, outside, dw = self.inside(), self.outside(), self.lift_slope()
+        t_ls = np.array([1 + inside[0], inside[1]])  # along the wetted substrate, towards +R
+        t_f = t_ls + dw  # the free membrane
+        t_s = np.array([1 + outside[0], outside[1]])  # the bonded membrane / substrate
+        return {"t_f": t_f, "t_ls": t_ls, "t_s": t_s, "r0": 1.0 + self.at()[0]}
+
+
+def angle(a, b) -> float:
+    """The angle between two vectors, in degrees."""
+    return math.degrees(math.acos(np.clip(np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1)))
+
+
+def balance(line: dict, gammas, material, ratio_of_membrane: float = 1.0) -> np.ndarray:
+    """The line force at the contact line, (N_r^- + alpha) e_f + gamma_ls e_ls + (N_r^+ + dgamma) e_s,
+    from the tangents of :class:`ContactLine` (0 at equilibrium, up to discretisation)."""
+    alpha, gamma_ls, dgamma = gammas
+    lam_t = line["r0"]
+
+    def tension(t):
+        lam_r = float(np.linalg.norm(t))
+        I1 = lam_r**2 + lam_t**2 + 1 / (lam_r * lam_t) ** 2
+        return ratio_of_membrane * 2 * traction_factor(material, I1) * (lam_r - 1 / (lam_r**3 * lam_t**2)) / lam_t
+
+    e_f = -line["t_f"] / np.linalg.norm(line["t_f"])
+    e_ls = -line["t_ls"] / np.linalg.norm(line["t_ls"])
+    e_s = line["t_s"] / np.linalg.norm(line["t_s"])
+    return (tension(line["t_f"]) + alpha) * e_f + gamma_ls * e_ls + (tension(line["t_s"]) + dgamma) * e_s
+
+
+def observables(model: Model):
+    """Compile the observables once; returns a collective callable."""
+    ctx, u, w = model.ctx, model.u, model.w
+    volume = model.form(model.gap.integral(model.gap.volume_density))
+    energy = model.form(sum(t.energy(ctx) for t in model.terms))
+    centre = PointEvaluator(model.mesh, [0.0, 0.0]).expression(u[1])
+    W = w.function_space
+    axis = model.patch.vertex_dofs(W, (0.0, 0.0))
+    owned_axis = axis[axis < W.dofmap.index_map.size_local]
+    pressure = ctx.real_state("pressure")
+    line = ContactLine(model)
+    comm = model.mesh.comm
+
+    def observe() -> dict:
+        lift_apex = comm.allreduce(float(w.x.array.reshape(-1, 2)[owned_axis, 1].sum()))
+        z_s = float(centre()[0])
+        here = line()
+        e_f, e_ls, e_s = -here["t_f"], -here["t_ls"], here["t_s"]
+        return {
+            "V_over_V0": global_sum(volume) / V0,
+            "P": real_value(pressure),
+            "aspect": (z_s + lift_apex) / here["r0"],
+            # the membrane against the bonded surface continued (on a flat one: the rigid scene's)
+            "contact_angle_deg": 180.0 - angle(e_f, e_s),
+            "indentation": -z_s,
+            "r1_over_R0": here["r0"],
+            "energy": global_sum(energy) / math.pi - model.energy_offset,
+            "z_apex": z_s + lift_apex,
+            # the three angles at the contact line: in the liquid, in the substrate, between
+            # the membrane's two parts (they sum to 360 degrees)
+            "liquid_angle_deg": angle(e_f, e_ls),
+            "substrate_angle_deg": angle(e_ls, e_s),
+            "membrane_angle_deg": angle(e_f, e_s),
+            "_line": here,
+        }
+
+    return observe
+
+
+def build(params: Params, comm, data=None) -> Scene:
+    """Compose the blister on a soft substrate (``data``: a distributed substrate mesh to reuse)."""
+    model = Model(params, comm, data)
+    observe_all = observables(model)
+
+    def observe():
+        return {k: v for k, v in observe_all().items() if not k.startswith("_")}
+
+    def guard(values):
+        if values["V_over_V0"] <= 0:
+            return f"the blister volume is not positive (V/V0 = {values['V_over_V0']:.3g})"
+        return None
+
+    scene = SoftScene(
+        name="blister-soft", ctx=model.ctx, terms=model.terms, bcs=model.bcs, load="pressure",
+        start=lambda fraction: model.cap_guess(fraction * params.v_start), observe=observe,
+        end=lambda values: values["V_over_V0"] - params.v_max, grows="V_over_V0",
+        progress_keys=("V_over_V0", "P", "indentation"), fields=[model.u],
+        continuation=params.continuation,
+        plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μf t0)"),
+               "indentation.png": ("V_over_V0", "indentation", "V/V0", "-z_s(0)/R0")},
+        load_scale=max(1.0, 2 * params.alpha), guard=guard, summarize=summarize, params=params,
+        columns=COLUMNS)
+    scene.norm = {"displacement": 1.0, "lift": 1.0}
+    scene.mean = model.free.mean
+    scene.model = model
+    scene.observe_all = observe_all
+    return scene
+
+
+def summarize(branch) -> dict:
+    """``indentation_max``: the deepest indentation along the branch (a parabola through the
+    three rows around the deepest one), and where it is."""
+    depth = branch.column("indentation")
+    volume = branch.column("V_over_V0")
+    k = int(np.argmax(depth))
+    result = {"V_over_V0": float(volume[k]), "depth": float(depth[k]), "interior": False}
+    if 0 < k < len(depth) - 1:
+        c = np.polyfit(volume[k - 1:k + 2], depth[k - 1:k + 2], 2)
+        if c[0] < 0:
+            v = -c[1] / (2 * c[0])
+            result = {"V_over_V0": float(v), "depth": float(np.polyval(c, v)), "interior": True}
+    return {"indentation_max": result}
+
+
+def contact_forces(model: Model) -> dict:
+    """The line force (per current length of the contact line) that each term exerts on the
+    substrate's contact vertex: minus the term's residual at the vertex's two displacement
+    dofs over 2 pi r0. At equilibrium they sum to zero; the contact-line conditions are
+    natural when the bulk's share (``stiffness_ratio*solid_strain``) vanishes as the mesh is
+    refined, the membranes' and interfaces' forces then balancing alone (collective)."""
+    import dolfinx.fem.petsc  # noqa: F401
+
+    V = model.u.function_space
+    dofs = fem.locate_dofs_geometrical(V, lambda x: np.isclose(x[0], 1.0) & np.isclose(x[1], 0.0))
+    owned = dofs[dofs < V.dofmap.index_map.size_local]
+    r0 = 1.0 + float(PointEvaluator(model.mesh, [1.0, 0.0]).expression(model.u)()[0])
+    v = ufl.TestFunction(V)
+    forces = {}
+    for term in model.terms:
+        form = model.form(ufl.derivative(term.energy(model.ctx), model.u, v))
+        vec = fem.assemble_vector(form)
+        vec.scatter_reverse(dolfinx_la_add())
+        local = -vec.array.reshape(-1, 2)[owned].sum(axis=0) if owned.size else np.zeros(2)
+        forces[term.name] = model.mesh.comm.allreduce(local) / (2 * math.pi * r0)
+    return forces
+
+
+def dolfinx_la_add():
+    from dolfinx import la
+
+    return la.InsertMode.add

@@ -1,0 +1,120 @@
+"""Parameters of the scene ``blister-soft`` and its CLI texts (no dolfinx here).
+
+All inputs are dimensionless: lengths by the blister radius R0, energies by
+mu_f t0 R0^2 (mu_f t0: the membrane's shear modulus times its thickness).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from bcfem.geometry.substrate import SubstrateGeometry
+from bcfem.materials import MATERIALS
+from bcfem.params import ContinuationParams, require
+
+SUMMARY = "membrane blister bonded to a soft substrate, one energy (ch. 4)"
+DESCRIPTION = """\
+A liquid-filled blister: an incompressible hyperelastic membrane (neo-Hookean
+or Gent) bonded at radius R0 to a nearly incompressible neo-Hookean substrate
+(Taylor-Hood P2-P1), which the liquid indents. One free energy,
+  Pi = U_f + U_s - dp V + gamma_l A_l + gamma_ls A_ls + dgamma A_s,
+is minimised monolithically: the free membrane (R < R0) is a 1-D field on the
+substrate's wetted top, u_f = u_s + w with w = 0 at the contact line; the
+bonded membrane (R > R0) is a surface hyperelastic term on the substrate's top.
+The contact-line conditions (eqs. 4.52-4.53, Neumann's triangle without the
+membrane) are natural conditions of Pi. The pressure is traced by arc-length
+through its limit points. Far field: the block 0 <= R <= L R0, -L R0 <= Z <= 0,
+bottom fixed, far side on rollers (u_r = 0), axis u_r = 0.
+
+Units and normalisations (all inputs and outputs are dimensionless):
+  lengths          by R0;  energies by mu_f t0 R0^2
+  P                = dp R0 / (mu_f t0)
+  stiffness-ratio  = mu_s R0 / (mu_f t0)
+  alpha, gamma-ls, delta-gamma = gamma_l, gamma_ls, dgamma over mu_f t0
+  V/V0             with V0 = 4/3 pi R0^3
+  aspect           = z_f(0) / r0 (apex height over the current contact radius)
+  contact angle    = angle between the membrane and the bonded substrate surface
+                     at the contact line, degrees (the rigid scene's on a flat one)
+  indentation      = -z_s(0) / R0;  r1_over_R0 = r0 / R0
+  energy           = (Pi - gamma_ls pi R0^2 - dgamma pi (L^2 - 1) R0^2)/(pi R0^2 mu_f t0)
+Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/indentation.png,
+DIR/fields.bp (VTX)."""
+HELP = {
+    "material": "strain-energy function of the membrane",
+    "Jm": "Gent locking limit of I1-3, > 0 (Gent only)",
+    "stiffness_ratio": "mu_s R0 / (mu_f t0), in (0, 1e6]",
+    "alpha": "gamma_l/(mu_f t0), liquid-membrane interface energy, >= 0",
+    "gamma_ls": "gamma_ls/(mu_f t0), liquid-substrate interface energy, >= 0",
+    "delta_gamma": "dgamma/(mu_f t0), membrane-substrate interface energy, >= 0",
+    "edge": "edge condition: bonded (R0 fixed)",
+    "size_factor": "L: the substrate block is L R0 wide and deep, > 1",
+    "v_max": "end of the branch, V/V0 > v-start",
+    "v_start": "start of the branch, V/V0 > 0",
+    "size_contact": "element size at the contact line, in R0, > 0",
+    "size_far": "largest element size, in R0 (0: L/10)",
+    "growth": "size ratio of neighbouring elements, in (1, 2]",
+    "refine": "halve every element size this many times, >= 0",
+    "kappa_ratio": "bulk over shear modulus of the substrate, in [10, 1e8]",
+}
+COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0", "energy",
+           "z_apex", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "s"]
+EDGES = ("bonded",)
+
+
+@dataclass(frozen=True)
+class Params:
+    """Parameters of ``blister-soft`` (normalised by mu_f t0 and R0).
+
+    Attributes:
+        material: 'neo-hookean' or 'gent' (the membrane).
+        Jm: Gent locking limit of I1 - 3 (ignored for neo-Hookean).
+        stiffness_ratio: mu_s R0/(mu_f t0); large is the rigid substrate of ``blister-rigid``.
+        alpha, gamma_ls, delta_gamma: the three interface energies over mu_f t0.
+        edge: 'bonded' (the material contact point R0 is fixed on the substrate).
+        size_factor: L, the block's width and depth over R0.
+        v_max, v_start: the branch in V/V0.
+        size_contact, size_far, growth, refine: the mesh.
+        kappa_ratio: bulk over shear modulus of the substrate (nearly incompressible).
+        continuation: step control.
+    """
+
+    material: str = "neo-hookean"
+    Jm: float = 100.0
+    stiffness_ratio: float = 1.0
+    alpha: float = 0.5
+    gamma_ls: float = 0.5
+    delta_gamma: float = 0.5
+    edge: str = "bonded"
+    size_factor: float = 10.0
+    v_max: float = 3.0
+    v_start: float = 0.05
+    size_contact: float = 0.01
+    size_far: float = 0.0
+    growth: float = 1.25
+    refine: int = 0
+    kappa_ratio: float = 1e4
+    continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds=0.02, ds_max=0.05))
+
+    CHOICES = {"material": sorted(MATERIALS), "edge": list(EDGES)}
+
+    def __post_init__(self):
+        require(self.material in MATERIALS, f"material must be one of {sorted(MATERIALS)} (got {self.material!r})")
+        require(self.Jm > 0 and not math.isnan(self.Jm), f"Jm must be > 0 (got {self.Jm})")
+        require(0 < self.stiffness_ratio <= 1e6, f"stiffness-ratio must be in (0, 1e6] (got {self.stiffness_ratio})")
+        for name in ("alpha", "gamma_ls", "delta_gamma"):
+            value = getattr(self, name)
+            require(value >= 0 and math.isfinite(value),
+                    f"{name.replace('_', '-')} must be >= 0 and finite (got {value})")
+        require(self.edge in EDGES, f"edge must be one of {list(EDGES)} (got {self.edge!r})")
+        require(self.size_factor > 1 and math.isfinite(self.size_factor),
+                f"size-factor must be > 1 (got {self.size_factor})")
+        require(0 < self.v_start < self.v_max and math.isfinite(self.v_max),
+                f"need 0 < v-start < v-max (got {self.v_start}, {self.v_max})")
+        require(self.size_far >= 0, f"size-far must be >= 0 (got {self.size_far})")
+        require(10 <= self.kappa_ratio <= 1e8, f"kappa-ratio must be in [10, 1e8] (got {self.kappa_ratio})")
+        self.geometry()  # validates the mesh sizes (ValueError naming the parameter)
+
+    def geometry(self) -> SubstrateGeometry:
+        return SubstrateGeometry(size_factor=self.size_factor, size_contact=self.size_contact,
+                                 size_far=self.size_far or None, growth=self.growth, refine=self.refine)

@@ -1,0 +1,127 @@
+"""The load path of ``blister-soft``: a stiff start, softened to the substrate's modulus,
+then arc-length in the pressure.
+
+A soft substrate cannot be reached from a flat guess: the line force of the membrane and
+the interfaces at the contact line indents it by O(gamma/mu_s), of the order of R0 at
+mu_s R0/(mu_f t0) = 1. So the first point is converged on a stiff substrate (the blister is
+then close to the rigid one, and a cap is a good guess), and the modulus k (a run-time
+constant) is lowered to its value in geometric steps (and large interface energies raised
+from O(1) to theirs), the membrane's shape held by the arc-length start row (its amplitude
+along the cap). The branch is then traced in P from
+that point, first back to ``v_start`` if it moved, then forwards to ``v_max``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from bcfem.continuation import ArcLength, ContinuationError
+from bcfem.log import logger
+from bcfem.runner import _join, start
+from bcfem.scene import Scene
+
+#: the modulus of the first point: stiff enough for Newton from a cap on a flat substrate
+STIFF_START = 1e3
+
+
+class SoftScene(Scene):
+    """An arc-length scene whose arc length is measured on the wetted surface by the
+    substrate's displacement and the membrane's lift together (``norm``, ``mean``), and whose
+    start is softened from a stiff substrate (:func:`homotopy`)."""
+
+    norm: dict | None = None
+    mean: object = None
+    model: object = None
+
+    def solve(self, run) -> None:
+        run.watch(self.fields)
+        try:
+            branch = trace(self, run.on_accept, run)
+        except ContinuationError as err:
+            self._report(run, getattr(err, "branch", None) or _empty())
+            raise
+        self._report(run, branch)
+
+
+def _empty():
+    from bcfem.branch import Branch
+
+    return Branch()
+
+
+def homotopy(problem, path, dt: float = 0.125, dt_min: float = 1e-3) -> int:
+    """Move the model along ``path(t)`` (it sets run-time constants) from t = 0, where the
+    problem's states are converged, to t = 1, re-solving at each step (halved on failure,
+    doubled after a success, down to ``dt_min``); returns the number of solves. The
+    problem's rows stay as they are (the arc-length start row)."""
+    t, solves = 0.0, 0
+    while t < 1.0:
+        saved = problem.save()
+        trial = min(1.0, t + dt)
+        path(trial)
+        solves += 1
+        if problem.solve():
+            t, dt = trial, 2 * dt
+            continue
+        problem.restore(saved)
+        path(t)
+        dt /= 2
+        if dt < dt_min:
+            raise ContinuationError(f"the start homotopy stalled at t = {t:.6g} ({problem.failure})")
+    return solves
+
+
+def start_path(ctx, params):
+    """The homotopy from a stiff substrate with interface energies of at most O(1) to the
+    parameters: the stiffness ratio geometrically, the interface energies linearly."""
+    k1 = params.stiffness_ratio
+    k0 = max(k1, STIFF_START)
+    # the constants of the interface terms the scene holds (only those > 0)
+    gammas = {name: getattr(params, attr) for name, attr in
+              (("gamma_l", "alpha"), ("gamma_ls", "gamma_ls"), ("delta_gamma", "delta_gamma"))
+              if getattr(params, attr) > 0}
+    shrink = min(1.0, 1.0 / max([*gammas.values(), 1e-300]))
+
+    def path(t):
+        ctx.constant("stiffness_ratio").value = k0 * (k1 / k0) ** t
+        for name, gamma in gammas.items():
+            ctx.constant(name).value = gamma * (shrink + t * (1 - shrink))
+
+    return path
+
+
+def trace(scene: SoftScene, on_accept=None, run=None):
+    """Start stiff, soften, trace back to ``v_start`` if needed, then forward; returns the branch
+    (the problem is the run's, or closed here)."""
+    params = scene.params
+    arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale, norm=scene.norm, mean=scene.mean)
+    arguments = (scene.ctx, scene.terms, scene.bcs)
+    options = dict(petsc_options=scene.petsc_options, rows=arc.rows(), energy_scale=scene.load_scale)
+    if run is not None:
+        problem = run.problem("branch", *arguments, **options)
+    else:
+        from bcfem.problem import Problem
+        problem = Problem(*arguments, scene.prefix, **options)
+    path = start_path(scene.ctx, params)
+    try:
+        path(0.0)
+        start(arc, problem, scene)
+        solves = homotopy(problem, path)
+        logger.info(f"blister-soft: reached the parameters from a stiff start in {solves} solves")
+        arc.restart_row(problem)
+        forward = arc.forward_sign(problem, scene.observe, scene.grows)
+        back = None
+        if scene.observe()["V_over_V0"] > params.v_start * (1 + 1e-9):
+            origin = problem.save()
+            back = arc.trace(problem, scene.observe, lambda v: params.v_start - v["V_over_V0"],
+                             scene.progress_keys, guard=scene.guard, direction=-forward)
+            problem.restore(origin)
+            arc.restart_row(problem)
+        branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
+                           guard=scene.guard, direction=forward)
+        if back is not None:
+            branch = _join(back, branch)
+    finally:
+        if run is None:
+            problem.close()
+    return branch

@@ -1,0 +1,211 @@
+"""Accuracy vs wall time of the blister on a soft substrate, and the Fig. 4.5 family.
+
+* the pressure maximum P_max at mu_s R0/(mu_f t0) = 1 (gamma_l = gamma_ls = dgamma =
+  0.5 mu_f t0, neo-Hookean, L = 10) on the default mesh refined 0, 1, 2 times (every
+  element size halved each time), against the Richardson extrapolation of the two finest
+  with the observed order; one core per solve;
+* the far field: P_max with the block L = 20 R0 instead of 10;
+* the Fig. 4.5/4.7 family: stiffness ratios 1, 2, 5, 10 to V/V0 = 3.5 and the rigid
+  substrate (``blister-rigid``, clamped, alpha = 0.5), two solves at a time on the 2 cores;
+  its total wall time, its limit points and deepest indentations.
+
+Usage (from the repository root)::
+
+    .venv/bin/python benchmarks/blister_soft.py            # ~10 min on 2 cores
+
+Writes ``docs/benchmarks/blister-soft.{csv,md,png}`` and the branches of the family in
+``docs/figures/blister_soft/`` (``fig4_5.csv``, ``fig4_5.png``, ``fig4_7.png``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+from common import ROOT, atomic_text, csv_text, fmt, loadavg, run_worker
+
+OUT = ROOT / "docs" / "benchmarks"
+FIGURES = ROOT / "docs" / "figures" / "blister_soft"
+RATIOS = [1.0, 2.0, 5.0, 10.0]
+FAMILY_VMAX = 3.5
+STUDY_VMAX = 1.5
+COMMAND = ".venv/bin/python benchmarks/blister_soft.py"
+
+
+def worker(case: dict) -> dict:
+    t0 = time.perf_counter()
+    import bcfem  # noqa: F401  (before dolfinx / petsc4py)
+    from mpi4py import MPI
+
+    t1 = time.perf_counter()
+    if case["scene"] == "rigid":
+        from bcfem.runner import branch_of
+        from bcfem.scenes import blister_rigid
+
+        params = blister_rigid.Params(material="neo-hookean", alpha=0.5, v_max=case["v_max"])
+        branch = branch_of(blister_rigid.build(params, MPI.COMM_WORLD))
+        dofs = 2 * (params.degree * params.cells + 1) + 1
+    else:
+        from bcfem.scenes import blister_soft
+        from bcfem.scenes.blister_soft.path import trace
+
+        params = blister_soft.Params(stiffness_ratio=case["ratio"], v_max=case["v_max"], refine=case["refine"],
+                                     size_factor=case.get("L", 10.0))
+        scene = blister_soft.build(params, MPI.COMM_WORLD)
+        branch = trace(scene)
+        dofs = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.index_map_bs
+                   for s in scene.ctx.states.values())
+    lps = [{"kind": lp.kind, **{k: v for k, v in lp.values.items() if isinstance(v, float)}}
+           for lp in branch.limit_points]
+    keys = ("V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0")
+    rows = [{k: float(r[k]) for k in keys if k in r} for r in branch.rows]
+    return {**case, "t_solve": time.perf_counter() - t1, "t_import": t1 - t0, "dofs": dofs,
+            "steps": len(branch.rows) - 1, "limit_points": lps, "rows": rows}
+
+
+def run(case: dict, core: str = "0") -> dict:
+    return run_worker(__file__, case, core)
+
+
+def p_max(result) -> dict:
+    return next(lp for lp in result["limit_points"] if lp["kind"] == "max")
+
+
+def deepest(result) -> dict:
+    """The deepest indentation of a branch: a parabola through the three rows around it."""
+    import numpy as np
+
+    rows = result["rows"]
+    d = np.array([r.get("indentation", 0.0) for r in rows])
+    v = np.array([r["V_over_V0"] for r in rows])
+    k = int(np.argmax(d))
+    if 0 < k < len(d) - 1:
+        c = np.polyfit(v[k - 1:k + 2], d[k - 1:k + 2], 2)
+        if c[0] < 0:
+            x = -c[1] / (2 * c[0])
+            return {"V_over_V0": float(x), "depth": float(np.polyval(c, x)), "interior": True}
+    return {"V_over_V0": float(v[k]), "depth": float(d[k]), "interior": False}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--worker", help=argparse.SUPPRESS)
+    parser.add_argument("--levels", type=int, default=3, help="mesh levels of the study (refine 0 .. n-1)")
+    args = parser.parse_args()
+    if args.worker:
+        print("RESULT " + json.dumps(worker(json.loads(args.worker))))
+        return
+    load = loadavg()
+    # the Fig. 4.5 family, two at a time
+    t0 = time.perf_counter()
+    cases = [{"scene": "soft", "ratio": k, "refine": 0, "v_max": FAMILY_VMAX} for k in RATIOS]
+    cases.append({"scene": "rigid", "v_max": FAMILY_VMAX})
+    with ThreadPoolExecutor(2) as pool:
+        family = list(pool.map(lambda ic: run(ic[1], str(ic[0] % 2)), enumerate(cases)))
+    t_family = time.perf_counter() - t0
+    # the mesh study at ratio 1, and the far field, one at a time
+    study = []
+    for r in range(args.levels):  # refine 2 stalls in the start homotopy at ratio ~2 (docs/results.md)
+        try:
+            study.append(run({"scene": "soft", "ratio": 1.0, "refine": r, "v_max": STUDY_VMAX}))
+        except RuntimeError as err:
+            print(f"refine {r} failed: {str(err).splitlines()[-1]}", file=sys.stderr)
+            break
+    far = run({"scene": "soft", "ratio": 1.0, "refine": 0, "v_max": STUDY_VMAX, "L": 20.0})
+    write(study, far, family, t_family, load)
+
+
+def write(study, far, family, t_family, load) -> None:
+    P = [p_max(r)["P"] for r in study]
+    # the observed order from three meshes, else 4 (P2: h^(2k) for an energy-like functional)
+    order = math.log2(abs(P[-3] - P[-2]) / abs(P[-2] - P[-1])) if len(P) >= 3 else 4.0
+    reference = P[-1] + (P[-1] - P[-2]) / (2**order - 1)
+    rows = [{"refine": r["refine"], "dofs": r["dofs"], "steps": r["steps"], "t_solve": r["t_solve"],
+             "P_max": p_max(r)["P"], "V_at_P_max": p_max(r)["V_over_V0"],
+             "error": abs(p_max(r)["P"] / reference - 1)} for r in study]
+    columns = ["refine", "dofs", "steps", "t_solve", "P_max", "V_at_P_max", "error"]
+    atomic_text(OUT / "blister-soft.csv", csv_text(rows, columns))
+    fam_rows = [{"ratio": r.get("ratio", math.inf), **row} for r in family for row in r["rows"]]
+    atomic_text(FIGURES / "fig4_5.csv", csv_text(fam_rows, ["ratio", "V_over_V0", "P", "aspect", "contact_angle_deg",
+                                                           "indentation", "r1_over_R0"]))
+    plot(rows, family)
+    L = ["# Benchmark: blister on a soft substrate (`blister-soft`)", "",
+         f"Command: `{COMMAND}` (load average before: {load}). Neo-Hookean membrane and substrate "
+         "(kappa/mu_s = 1e4), gamma_l = gamma_ls = dgamma = 0.5 mu_f t0, bonded edge, L = 10.", "",
+         "## P_max at mu_s R0/(mu_f t0) = 1 against mesh and wall time (one core each)", "",
+         f"Reference: Richardson from the two finest meshes with the "
+         f"{'observed' if len(P) >= 3 else 'assumed (two levels)'} order {order:.2f}: "
+         f"P_max = {reference:.8f}.", "",
+         "| refine | dofs | steps | wall time [s] | P_max | V/V0 at P_max | rel. error |",
+         "| --- | --- | --- | --- | --- | --- | --- |"]
+    for r in rows:
+        L.append(f"| {r['refine']} | {r['dofs']} | {r['steps']} | {r['t_solve']:.1f} | {r['P_max']:.8f} "
+                 f"| {r['V_at_P_max']:.5f} | {fmt(r['error'])} |")
+    Lfar = p_max(far)["P"]
+    L += ["", "## Far field", "",
+          f"Bottom fixed, far side on rollers (u_r = 0), axis u_r = 0. P_max with L = 20 instead of 10 (refine 0): "
+          f"{Lfar:.8f} against {P[0]:.8f}, a relative change of {abs(Lfar / P[0] - 1):.1e}.", "",
+          f"## The Fig. 4.5 family (to V/V0 = {FAMILY_VMAX}, refine 0, two solves at a time on 2 cores)", "",
+          f"Total wall time: {t_family:.0f} s.", "",
+          "| mu_s R0/(mu_f t0) | P_max | V/V0 at P_max | P_min | V/V0 at P_min | deepest indentation | at V/V0 "
+          "| wall time [s] |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for r in family:
+        mx = p_max(r)
+        mn = next((lp for lp in r["limit_points"] if lp["kind"] == "min"), None)
+        d = deepest(r) if r["scene"] == "soft" else None
+        L.append(f"| {r.get('ratio', 'rigid')} | {mx['P']:.5f} | {mx['V_over_V0']:.4f} | "
+                 f"{fmt(mn and mn['P'], '.5f')} | {fmt(mn and mn['V_over_V0'], '.4f')} | "
+                 f"{fmt(d and d['depth'], '.5f')} | {fmt(d and d['V_over_V0'], '.4f')}"
+                 f"{'' if not d or d['interior'] else ' (end)'} | {r['t_solve']:.1f} |")
+    atomic_text(OUT / "blister-soft.md", "\n".join(L) + "\n")
+
+
+def plot(rows, family) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    shown = rows[:-1] if len(rows) > 2 else rows
+    ax.loglog([r["t_solve"] for r in shown], [max(r["error"], 1e-16) for r in shown], "o-")
+    for r in shown:
+        ax.annotate(f"refine {r['refine']}", (r["t_solve"], r["error"]))
+    ax.set_xlabel("wall time [s]")
+    ax.set_ylabel("relative error of P_max")
+    ax.set_title("blister-soft, mu_s R0/(mu_f t0) = 1")
+    fig.tight_layout()
+    fig.savefig(OUT / "blister-soft.png", dpi=120)
+    FIGURES.mkdir(parents=True, exist_ok=True)
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4))
+    for r in family:
+        label = f"{r['ratio']:g}" if r["scene"] == "soft" else "∞ (rigid)"
+        v = [row["V_over_V0"] for row in r["rows"]]
+        for ax, key in zip(axes, ("P", "aspect", "contact_angle_deg")):
+            ax.plot(v, [row[key] for row in r["rows"]], "k-" if r["scene"] == "rigid" else "-", label=label)
+    for ax, name in zip(axes, ("P = Δp R0/(μf t0)", "aspect z_f(0)/r0", "contact angle [deg]")):
+        ax.set_xlabel("V/V0")
+        ax.set_ylabel(name)
+    axes[0].legend(title="μs R0/(μf t0)")
+    fig.tight_layout()
+    fig.savefig(FIGURES / "fig4_5.png", dpi=120)
+    one = next(r for r in family if r.get("ratio") == 1.0)
+    fig, ax = plt.subplots(figsize=(5, 4))
+    v = [row["V_over_V0"] for row in one["rows"]]
+    ax.plot(v, [row["P"] for row in one["rows"]], "r-")
+    ax.set_xlabel("V/V0")
+    ax.set_ylabel("P", color="r")
+    ax2 = ax.twinx()
+    ax2.plot(v, [row["indentation"] for row in one["rows"]], "b-")
+    ax2.set_ylabel("indentation -z_s(0)/R0", color="b")
+    ax.set_title("Fig. 4.7: μs R0/(μf t0) = 1")
+    fig.tight_layout()
+    fig.savefig(FIGURES / "fig4_7.png", dpi=120)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,180 @@
+"""Scene ``blister-soft``: the chapter-4 blister on a soft substrate as one energy.
+
+* the battery for the new terms (membranes and interfaces on the substrate's top, the
+  liquid gap, the scaled substrate): closed-form values, Taylor rates of residual and
+  tangent, and the same numbers on 2 ranks as on COMM_SELF (marker ``mpi``);
+* bad input exits 2 before meshing;
+* the rigid limit: a stiff substrate gives ``blister-rigid``'s clamped limit point, closer
+  the stiffer (slow);
+* ``mpirun -n 2`` equals serial (slow); the mesh convergence of P_max (convergence).
+"""
+
+import functools
+import json
+import math
+
+import numpy as np
+import pytest
+from dolfinx import fem
+from mpi4py import MPI
+
+from bcfem import global_sum
+from bcfem.problem import Problem
+from bcfem.scenes import blister_soft
+from helpers import bcfem
+from test_terms import assert_second_order, taylor
+
+pytestmark = pytest.mark.mpi
+
+L = 2.0
+SMALL = dict(size_factor=L, size_contact=0.05, growth=1.5, stiffness_ratio=3.0, alpha=0.7, gamma_ls=0.4,
+             delta_gamma=0.3, kappa_ratio=50.0)
+
+
+def small_model(comm=MPI.COMM_WORLD):
+    from bcfem.scenes.blister_soft.model import Model
+
+    return Model(blister_soft.Params(**SMALL), comm)
+
+
+def term_values(model) -> dict:
+    return {t.name: global_sum(model.form(t.energy(model.ctx))) for t in model.terms}
+
+
+def W(lam):
+    """The incompressible neo-Hookean membrane at an equibiaxial stretch (mu t0 = 1)."""
+    return 0.5 * (2 * lam**2 + lam**-4 - 3)
+
+
+def test_terms_in_closed_form():
+    """A homogeneous substrate (u = (aR, eZ)) under a uniformly stretched membrane (w = (cR, 0)):
+    every term's energy in closed form; then the liquid volume of a curved pair of meridians."""
+    model = small_model()
+    a, c, e = 0.1, 0.05, -0.08
+    model.u.interpolate(lambda x: np.vstack([a * x[0], e * x[1]]))
+    model.w.interpolate(lambda x: np.vstack([c * x[0], 0 * x[0]]))
+    got = term_values(model)
+    k, f = SMALL["stiffness_ratio"], 1 + a + c
+    J = (1 + a) ** 2 * (1 + e)
+    solid = k * (0.5 * (2 * (1 + a) ** 2 + (1 + e) ** 2 - 3) - math.log(J)) * math.pi * L**2 * L
+    want = {"stiffness_ratio*solid_strain": solid,
+            "membrane_strain@free": math.pi * W(f), "membrane_strain@bonded": math.pi * (L**2 - 1) * W(1 + a),
+            "pressure_volume@liquid": 0.0,
+            "gamma_l@gamma_l": SMALL["alpha"] * math.pi * f**2,
+            "gamma_ls@gamma_ls": SMALL["gamma_ls"] * math.pi * (1 + a) ** 2,
+            "delta_gamma@delta_gamma": SMALL["delta_gamma"] * math.pi * (L**2 - 1) * (1 + a) ** 2}
+    assert got == pytest.approx(want, rel=1e-12, abs=1e-12)
+    # the liquid between z_f = b R^2 + d (1 - R^2) and z_s = b R^2, radially stretched
+    b, d, p = -0.2, 0.3, 1.3
+    model.u.interpolate(lambda x: np.vstack([a * x[0], b * x[0] ** 2 + 0.4 * x[1]]))
+    model.w.interpolate(lambda x: np.vstack([c * x[0], d * (1 - x[0] ** 2)]))
+    model.ctx.real_state("pressure").x.array[:] = p
+    volume = -math.pi / 2 * ((1 + a + c) ** 2 * (b - d) - (1 + a) ** 2 * b)
+    assert term_values(model)["pressure_volume@liquid"] == pytest.approx(-p * volume, rel=1e-12)
+
+
+def direction(problem):
+    """A smooth direction, 0 on every Dirichlet dof (the same on any partition)."""
+    fields = {n: fem.Function(s.function_space) for n, s in zip(problem.names, problem.states)}
+    fields["displacement"].interpolate(lambda x: np.vstack([x[0] * np.sin(3 * x[1]), np.cos(2 * x[0]) * (x[1] + L)]))
+    fields["lift"].interpolate(lambda x: np.vstack([x[0] * (1 - x[0]), 1 - x[0] ** 2]))
+    fields["solid_pressure"].interpolate(lambda x: np.cos(x[0] + x[1]))
+    fields["pressure"].x.array[:] = 1.0
+    for name, f in fields.items():
+        f.x.array[problem.constrained(name)] = 0.0
+    return problem.vector_from(fields.values())
+
+
+def taylor_at_a_blister(comm):
+    """The standard battery's Taylor remainders (tests/test_terms.py) of every term together,
+    at an inflated, off-equilibrium state, along a smooth direction."""
+    model = small_model(comm)
+    model.cap_guess(0.3)
+    model.u.interpolate(lambda x: np.vstack([0.05 * x[0] * (L - x[0]) * (x[1] + L),
+                                             0.1 * np.cos(x[0]) * (x[1] + L) / L]))
+    model.ctx.states["solid_pressure"].interpolate(lambda x: 0.2 + 0.1 * x[0])
+    model.ctx.real_state("pressure").x.array[:] = 1.5
+    problem = Problem(model.ctx, model.terms, model.bcs, f"bcfem_test_soft_{comm.size}_")
+    energy = fem.form(problem.lagrangian, entity_maps=model.ctx.entity_maps)
+    d = direction(problem)
+    result = taylor(problem, lambda: global_sum(energy), d, eps0=5e-3, halvings=5)
+    d.destroy()
+    problem.close()
+    return result
+
+
+@functools.cache
+def serial_taylor():
+    return taylor_at_a_blister(MPI.COMM_SELF)
+
+
+def test_taylor_rates_and_ranks():
+    """Residual = derivative of the energy, tangent = derivative of the residual (rates 2);
+    on 2 ranks, the same numbers as on one."""
+    result = taylor_at_a_blister(MPI.COMM_WORLD)
+    assert_second_order(result, tol=0.1)
+    if MPI.COMM_WORLD.size > 1:
+        serial = serial_taylor()
+        assert result["energy"] == pytest.approx(serial["energy"], rel=1e-12)
+        for key in ("energy_remainders", "residual_remainders"):
+            assert result[key] == pytest.approx(serial[key], rel=1e-6)
+
+
+@pytest.mark.serial
+@pytest.mark.parametrize("flag", ["--stiffness-ratio=0", "--alpha=-0.1", "--gamma-ls=-1", "--delta-gamma=-0.5",
+                                  "--size-factor=1"])
+def test_bad_input_exits_2_before_meshing(tmp_path, flag):
+    out = tmp_path / "out"
+    result = bcfem("run", "blister-soft", flag, "--out", out)
+    assert result.returncode == 2, result.stderr
+    name = flag.split("=")[0].lstrip("-")
+    assert name in result.stderr
+    assert not out.exists()
+
+
+def run(tmp_path, name, *args, ranks=1):
+    out = tmp_path / name
+    result = bcfem("run", *args, "--out", out, ranks=ranks)
+    assert result.returncode == 0, result.stderr[-3000:]
+    return json.loads((out / "summary.json").read_text()), out
+
+
+def p_max(summary):
+    (lp,) = [lp for lp in summary["limit_points"] if lp["kind"] == "max"]
+    return lp
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+def test_rigid_limit(tmp_path):
+    """At stiffness ratios 1e3 and 1e4 the pressure maximum (value, volume, aspect and contact
+    angle) approaches the clamped blister-rigid's, ten times closer at the ten times stiffer."""
+    rigid, _ = run(tmp_path, "rigid", "blister-rigid", "--material", "neo-hookean", "--alpha", "0.5",
+                   "--v-max", "0.8")
+    ref = p_max(rigid)
+    errors = []
+    for ratio in (1e3, 1e4):
+        soft, _ = run(tmp_path, f"soft{ratio:g}", "blister-soft", "--stiffness-ratio", ratio, "--v-max", "0.8")
+        lp = p_max(soft)
+        errors.append(abs(lp["P"] / ref["P"] - 1))
+        assert lp["V_over_V0"] == pytest.approx(ref["V_over_V0"], abs=2e-3)
+        assert lp["contact_angle_deg"] == pytest.approx(ref["contact_angle_deg"], abs=1.0)
+        assert lp["aspect"] == pytest.approx(ref["aspect"], rel=2e-3)
+    assert errors[1] < 1e-5 and errors[1] < errors[0] / 5, errors
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+def test_two_ranks_equal_serial(tmp_path):
+    args = ("blister-soft", "--v-max", "1.5", "--growth", "1.5", "--size-contact", "0.02")
+    serial, out1 = run(tmp_path, "serial", *args)
+    parallel, out2 = run(tmp_path, "parallel", *args, ranks=2)
+    assert parallel["ranks"] == 2
+    for key in ("V_over_V0", "P", "aspect", "indentation"):
+        assert p_max(parallel)[key] == pytest.approx(p_max(serial)[key], rel=1e-8)
+    rows1 = (out1 / "branch.csv").read_text().splitlines()
+    rows2 = (out2 / "branch.csv").read_text().splitlines()
+    assert len(rows1) == len(rows2)
+    last1 = np.array(rows1[-1].split(","), dtype=float)
+    last2 = np.array(rows2[-1].split(","), dtype=float)
+    assert last2 == pytest.approx(last1, rel=1e-7, abs=1e-9)
