@@ -8,8 +8,8 @@ stopped. These are plain data, shared by the continuation and its callers.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 

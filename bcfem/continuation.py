@@ -29,8 +29,8 @@ from __future__ import annotations
 import math
 import operator
 import time
+from collections.abc import Callable, Mapping
 from functools import reduce
-from typing import Callable, Mapping
 
 import numpy as np
 import ufl

@@ -22,8 +22,9 @@ from __future__ import annotations
 
 import math
 
-import ufl
 from mpi4py import MPI
+
+import ufl
 
 
 def scaled(radius):

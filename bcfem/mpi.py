@@ -6,8 +6,9 @@ these helpers, so no caller can forget the reduction.
 
 from __future__ import annotations
 
-import numpy as np
 from mpi4py import MPI
+
+import numpy as np
 from dolfinx import fem, geometry
 
 
@@ -54,9 +55,10 @@ class PointEvaluator:
         if self.cell.size == 0:
             return None
         cell_geometry = self.mesh.geometry.x[self.mesh.geometry.dofmaps[0][self.cell[0]]]
-        return self.mesh.geometry.cmaps[0].pull_back(self.x[:, : self.mesh.geometry.dim], cell_geometry[:, : self.mesh.geometry.dim])
+        dim = self.mesh.geometry.dim
+        return self.mesh.geometry.cmaps[0].pull_back(self.x[:, :dim], cell_geometry[:, :dim])
 
-    def expression(self, expr) -> "PointExpression":
+    def expression(self, expr) -> PointExpression:
         """Compile ``expr`` for evaluation at this point."""
         return PointExpression(self, expr)
 

@@ -10,12 +10,13 @@ from __future__ import annotations
 from contextlib import contextmanager
 from time import perf_counter
 
+from mpi4py import MPI
+from petsc4py import PETSc
+
 import numpy as np
 import ufl
 from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assign
-from mpi4py import MPI
-from petsc4py import PETSc
 
 from bcfem import options
 

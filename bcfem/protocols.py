@@ -11,11 +11,13 @@ gives a default for may be left out; the problem then uses that default.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Iterable, Protocol, TypeVar, runtime_checkable
+from collections.abc import Iterable
+from typing import TYPE_CHECKING, Protocol, TypeVar, runtime_checkable
 
 if TYPE_CHECKING:
-    import ufl
     from petsc4py import PETSc
+
+    import ufl
 
     from bcfem.context import Context
     from bcfem.problem import Problem
@@ -125,7 +127,7 @@ class DiscreteTerm(Protocol):
 T = TypeVar("T")
 
 
-def find_term(terms: Iterable, kind: type[T]) -> T:
+def find_term[T](terms: Iterable, kind: type[T]) -> T:
     """The one term of class ``kind`` (or a subclass) in ``terms``.
 
     Observables use this instead of a position in the list, which reordering

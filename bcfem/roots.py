@@ -10,7 +10,7 @@ import costs more than a whole small solve.
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable
 
 
 def bracketed_root(f: Callable[[float], float], a: float, b: float, xtol: float, rtol: float = 4e-16,

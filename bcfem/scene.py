@@ -10,8 +10,8 @@ arc-length scene, with the one stage ``branch``; a staged scene declares its own
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 from bcfem.params import ContinuationParams
 

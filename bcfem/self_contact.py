@@ -41,10 +41,11 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-from dolfinx import fem
 from mpi4py import MPI
 from petsc4py import PETSc
+
+import numpy as np
+from dolfinx import fem
 
 from bcfem.params import require
 

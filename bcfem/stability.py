@@ -17,8 +17,9 @@ checks the non-axisymmetric ones.
 
 from __future__ import annotations
 
-import numpy as np
 from petsc4py import PETSc
+
+import numpy as np
 
 
 def unstable_modes(problem, multipliers: list[str] | None = None, active_tol: float = 1e-9) -> int:

@@ -30,9 +30,9 @@ raises with the last accepted value.
 from __future__ import annotations
 
 import math
-from time import perf_counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
+from time import perf_counter
 
 from bcfem.log import progress
 from bcfem.relaxation import Viscosity, relax

@@ -6,7 +6,7 @@ is prescribed: the pressure stays the Lagrange multiplier of the constraint.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import ufl
 from dolfinx import fem

@@ -4,8 +4,9 @@ Under ``mpirun`` tests marked ``serial`` are skipped: they compare with serial r
 of their own or spawn ``mpirun`` themselves.
 """
 
-import pytest
 from mpi4py import MPI
+
+import pytest
 
 import bcfem  # noqa: F401
 

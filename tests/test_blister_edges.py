@@ -2,9 +2,10 @@
 
 import math
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
-from mpi4py import MPI
 
 from bcfem.runner import branch_of
 from bcfem.scenes import blister_rigid, blister_studies

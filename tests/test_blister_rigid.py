@@ -2,15 +2,16 @@
 
 import math
 
-import numpy as np
-import pytest
 from mpi4py import MPI
 
-from bcfem.volume_control import VolumeControl
+import numpy as np
+import pytest
+
 from bcfem.problem import Problem
 from bcfem.runner import trace
 from bcfem.scenes import blister_rigid
 from bcfem.theory import membrane
+from bcfem.volume_control import VolumeControl
 
 
 def branch_of(**kwargs):
@@ -131,7 +132,8 @@ def test_simple_membrane_is_the_ritz_minimiser():
 
 
 def test_hencky_constant_matches_the_classical_value():
-    """w0 = K(nu) a (p a / E t)^(1/3); Hencky's exact K(0.3) = 0.653 (Timoshenko & Woinowsky-Krieger, sec. 97; their Ritz value is 0.662)."""
+    """w0 = K(nu) a (p a / E t)^(1/3); Hencky's exact K(0.3) = 0.653 (Timoshenko &
+    Woinowsky-Krieger, sec. 97; their Ritz value is 0.662)."""
     _, I1, _ = membrane.foppl_constants(0.3)
     assert I1 == pytest.approx(0.653, abs=1e-3)
     # and the exact limit is softer than the one-term Ritz solution of eq. 3.17

@@ -13,16 +13,17 @@ import functools
 import json
 import math
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 from dolfinx import fem
-from mpi4py import MPI
+from helpers import bcfem
+from test_terms import assert_second_order, taylor
 
 from bcfem import global_sum
 from bcfem.problem import Problem
 from bcfem.scenes import blister_soft
-from helpers import bcfem
-from test_terms import assert_second_order, taylor
 
 pytestmark = pytest.mark.mpi
 

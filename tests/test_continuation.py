@@ -8,14 +8,15 @@ as in every bcfem scene. Marked ``mpi`` only where the run is on ``COMM_WORLD``.
 
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
+
+from mpi4py import MPI
 
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem, mesh
-from mpi4py import MPI
 
 from bcfem import ArcLength, Context, ContinuationParams, Problem, Switch, global_sum, real_value
 from bcfem.solid import AxisymmetricSolid

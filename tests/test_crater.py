@@ -2,12 +2,13 @@
 
 import json
 
-import pytest
 from mpi4py import MPI
+
+import pytest
+from helpers import bcfem
 
 from bcfem.scenes import crater
 from bcfem.theory.crater import eshelby_air, eshelby_liquid
-from helpers import bcfem
 
 LARGE = dict(specimen_radius=63.5, specimen_height=127.0,
              surface_energy=0.0)  # ~ the infinite body of Eshelby, no surface energy

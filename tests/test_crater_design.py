@@ -1,11 +1,12 @@
 """The crater design space (sections 7.3-7.4, ch. 8): reinforcement layers, the closure
 preload eps_m, liquid at full closure, and the stability classification."""
 
-import pytest
 from mpi4py import MPI
 
-from bcfem.scenes import crater
+import pytest
 from helpers import bcfem
+
+from bcfem.scenes import crater
 
 slow = pytest.mark.slow
 

@@ -4,10 +4,11 @@ import math
 import subprocess
 import sys
 
+from mpi4py import MPI
+
 import pytest
 import ufl
 from dolfinx import fem
-from mpi4py import MPI
 
 from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, LAYER, OUTER, SPECIMEN, TOP, CraterGeometry, create_mesh
 

@@ -25,15 +25,16 @@ import functools
 import math
 from dataclasses import dataclass, field
 
-import bcfem  # noqa: F401  (first: MPI before dolfinx, when run as a script)
+from mpi4py import MPI
+from petsc4py import PETSc
+
 import basix.ufl
 import numpy as np
 import pytest
 import ufl
 from dolfinx import default_scalar_type, fem, graph, mesh
-from mpi4py import MPI
-from petsc4py import PETSc
 
+import bcfem  # noqa: F401  (first: MPI before dolfinx, when run as a script)
 from bcfem import Context, global_sum, real_value
 from bcfem.problem import Problem
 from bcfem.solid import AxisymmetricSolid

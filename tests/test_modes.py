@@ -3,10 +3,11 @@ Euler buckling of a column (n = 1) and Biot's surface instability (n large)."""
 
 import math
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 from dolfinx import fem, mesh
-from mpi4py import MPI
 
 from bcfem.context import Context
 from bcfem.energies import SolidStrain

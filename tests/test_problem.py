@@ -6,12 +6,13 @@ The global unknown x solves arctan(x) = 0 (energy x arctan x - ln(1 + x^2)/2). F
 Newton steps from |x0| > 1.39 overshoot further at every step; backtracking converges.
 """
 
+from mpi4py import MPI
+from petsc4py import PETSc
+
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem, mesh
-from mpi4py import MPI
-from petsc4py import PETSc
 
 from bcfem import Context
 from bcfem.problem import Problem

@@ -8,7 +8,6 @@ balance instead of the module's elimination, and the layer compliance is
 checked against a transfer matrix of the transformed Navier equations.
 """
 
-import math
 import warnings
 
 import numpy as np

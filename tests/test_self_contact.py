@@ -2,11 +2,13 @@
 
 import math
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem
-from mpi4py import MPI
+from helpers import exact_nominal_stress
 
 from bcfem.context import Context
 from bcfem.energies import SolidStrain
@@ -16,7 +18,6 @@ from bcfem.problem import Problem
 from bcfem.protocols import DiscreteTerm, Term, find_term
 from bcfem.self_contact import WallSelfContact, gap, gap_derivatives
 from bcfem.solid import AxisymmetricSolid
-from helpers import exact_nominal_stress
 
 RADIUS, LOWER, SLOT, UPPER = 1.0, 1.0, 0.05, 1.5
 SIZES = (0.25, 0.18)  # the two blocks' meshes do not match at the contact
@@ -170,7 +171,8 @@ def test_blocks_pressed_through_the_contact_match_uniaxial_compression():
 
 @pytest.mark.mpi
 def test_open_slot_has_no_contact():
-    stress, lam_lower, lam_upper, gap_, active, _, depth = press(-0.02)  # the top moves down 0.03: 0.02 of the slot stays open
+    # the top moves down 0.03: 0.02 of the slot stays open
+    stress, lam_lower, lam_upper, gap_, active, _, depth = press(-0.02)
     assert active == 0 and depth == 0
     assert lam_lower == pytest.approx(1.0, abs=1e-12)
     assert gap_ == pytest.approx(0.02, abs=1e-12)

@@ -2,11 +2,13 @@
 
 import math
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem, mesh
-from mpi4py import MPI
+from helpers import exact_nominal_stress
 
 from bcfem.bcs import component, where
 from bcfem.context import Context
@@ -15,7 +17,6 @@ from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.mpi import global_sum
 from bcfem.problem import Problem
 from bcfem.solid import AxisymmetricSolid
-from helpers import exact_nominal_stress
 
 pytestmark = pytest.mark.mpi
 RADIUS, HEIGHT = 1.0, 2.0

@@ -4,8 +4,9 @@ pressure control up to the pressure maximum only (a dead load past a limit point
 
 import math
 
-import pytest
 from mpi4py import MPI
+
+import pytest
 
 from bcfem.energies import MembraneStrain
 from bcfem.problem import Problem

@@ -4,15 +4,26 @@ import math
 import subprocess
 import sys
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem
 from dolfinx.mesh import entities_to_geometry
-from mpi4py import MPI
 
-from bcfem.geometry.substrate import (AXIS, BOTTOM, CONTACT, CORNER, FAR, OUTER_TOP, SUBSTRATE, WETTED,
-                                      SubstrateGeometry, create_mesh)
+from bcfem.geometry.substrate import (
+    AXIS,
+    BOTTOM,
+    CONTACT,
+    CORNER,
+    FAR,
+    OUTER_TOP,
+    SUBSTRATE,
+    WETTED,
+    SubstrateGeometry,
+    create_mesh,
+)
 from bcfem.mpi import global_sum
 
 FACETS = (WETTED, OUTER_TOP, FAR, BOTTOM, AXIS)

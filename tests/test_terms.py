@@ -17,15 +17,29 @@ Every term of the library is here (:func:`test_the_battery_covers_every_term`):
 import inspect
 import math
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem, mesh
-from mpi4py import MPI
 
-from bcfem import (AxisymmetricMembrane, Context, Gent, Kinematics, MembraneStrain, NeoHookean, PressureVolume,
-                   SurfaceTension, Term, find_term, global_sum)
-from bcfem import energies, fluids, relaxation
+from bcfem import (
+    AxisymmetricMembrane,
+    Context,
+    Gent,
+    Kinematics,
+    MembraneStrain,
+    NeoHookean,
+    PressureVolume,
+    SurfaceTension,
+    Term,
+    energies,
+    find_term,
+    fluids,
+    global_sum,
+    relaxation,
+)
 from bcfem.cavity import Cavity
 from bcfem.energies import SolidStrain, SolidSurfaceEnergy, WettedSubstrate
 from bcfem.fluids import IdealGas, IncompressibleLiquid, Vacuum

@@ -7,7 +7,7 @@ every rank, so that no rank waits for a mesh that never comes.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 
 def distribute(build_model: Callable[[], None], comm, msh_file=None):

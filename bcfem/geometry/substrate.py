@@ -82,7 +82,8 @@ class SubstrateGeometry:
         require(self.size_contact < self.far_size,
                 f"size_contact must be < size_far = {self.far_size:g} (got {self.size_contact})")
         require(1 < self.growth <= 2, f"growth must be in (1, 2] (got {self.growth})")
-        require(isinstance(self.refine, int) and self.refine >= 0, f"refine must be an integer >= 0 (got {self.refine})")
+        require(isinstance(self.refine, int) and self.refine >= 0,
+                f"refine must be an integer >= 0 (got {self.refine})")
         require(self.order in (1, 2), f"order must be 1 or 2 (got {self.order})")
 
     @property

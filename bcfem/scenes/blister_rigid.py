@@ -16,21 +16,22 @@ aspect :math:`= z(0)/R_0`, contact angle :math:`= \pi - \phi_0^-`
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields
-from typing import Callable
+from typing import ClassVar
 
 import numpy as np
 import ufl
 from dolfinx import fem
 
 from bcfem.context import Context
+from bcfem.continuation import Switch
 from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.kinematics import AxisymmetricMembrane
 from bcfem.materials import MATERIALS, Gent, NeoHookean
 from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, global_sum, real_value, sample
 from bcfem.params import ContinuationParams, require
 from bcfem.protocols import find_term
-from bcfem.continuation import Switch
 from bcfem.scene import Scene
 from bcfem.scenes.membrane_edges import EDGES, domain
 from bcfem.theory.membrane import droplet, droplet_angle_from_volume, simple_membrane_pressure
@@ -111,7 +112,7 @@ class Params:
     start_volume: float = 0.0
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
 
-    CHOICES = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
+    CHOICES: ClassVar[dict] = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
 
     def __post_init__(self):
         require(self.material in MATERIALS,

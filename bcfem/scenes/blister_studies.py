@@ -18,12 +18,12 @@ from dataclasses import replace
 from dolfinx import fem
 
 from bcfem.continuation import ContinuationError
-from bcfem.volume_control import VolumeControl
 from bcfem.mpi import global_sum, real_value
 from bcfem.params import require
 from bcfem.problem import Problem
 from bcfem.scenes.blister_rigid import V0, Params, build, compose, scene_for, structure
 from bcfem.session import Sessions
+from bcfem.volume_control import VolumeControl
 
 #: the blister of the last structure traced by this process's map points and fits
 _sessions = Sessions()

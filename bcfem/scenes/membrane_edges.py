@@ -23,8 +23,8 @@ and Griffith-type edge conditions of eqs. 3.59-3.64 are then the natural
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 import ufl

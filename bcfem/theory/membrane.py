@@ -24,7 +24,7 @@ The membrane is incompressible linear elastic (ν = 1/2, E = 3μ).
 from __future__ import annotations
 
 import math
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
@@ -57,7 +57,7 @@ def _hencky_solution(s0: float, rtol: float = 1e-13):
                      dense_output=True)
 
 
-@lru_cache(maxsize=None)
+@cache
 def foppl_constants(nu: float = NU) -> tuple[float, float, float]:
     """(s0, I1, I3) of the exact Föppl-Hencky solution, to ~1e-12."""
     from scipy.integrate import quad

@@ -135,7 +135,7 @@ def _jve(n: int, z: np.ndarray) -> np.ndarray:
 
 def _real_breaks(end: float, width: float, scale: float) -> np.ndarray:
     """Panel ends on [0, end]: uniform of at most ``width``, graded near 0 below ``scale``."""
-    uniform = np.linspace(0.0, end, int(math.ceil(end / width)) + 1)
+    uniform = np.linspace(0.0, end, math.ceil(end / width) + 1)
     graded = scale * 2.0 ** np.arange(-4, 60)
     return np.union1d(uniform, graded[graded < end])
 

@@ -45,8 +45,8 @@ from bcfem.interface import LiquidGap, MembraneSurface, OnSurface, Scaled
 from bcfem.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
 from bcfem.mpi import PointEvaluator, global_sum, real_value
 from bcfem.scene import Scene
-from bcfem.scenes.blister_soft.path import SoftScene
 from bcfem.scenes.blister_soft.params import COLUMNS, Params
+from bcfem.scenes.blister_soft.path import SoftScene
 from bcfem.solid import AxisymmetricSolid
 from bcfem.submesh import BoundaryPatch
 from bcfem.theory.membrane import droplet_angle_from_volume, simple_membrane_pressure

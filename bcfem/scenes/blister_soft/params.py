@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 from bcfem.geometry.substrate import SubstrateGeometry
 from bcfem.materials import MATERIALS
@@ -96,7 +97,7 @@ class Params:
     kappa_ratio: float = 1e4
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds=0.02, ds_max=0.05))
 
-    CHOICES = {"material": sorted(MATERIALS), "edge": list(EDGES)}
+    CHOICES: ClassVar[dict] = {"material": sorted(MATERIALS), "edge": list(EDGES)}
 
     def __post_init__(self):
         require(self.material in MATERIALS, f"material must be one of {sorted(MATERIALS)} (got {self.material!r})")

@@ -13,8 +13,6 @@ that point, first back to ``v_start`` if it moved, then forwards to ``v_max``.
 
 from __future__ import annotations
 
-import math
-
 from bcfem.continuation import ArcLength, ContinuationError
 from bcfem.log import logger
 from bcfem.runner import _join, start

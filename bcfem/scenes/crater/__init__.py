@@ -10,9 +10,17 @@ from __future__ import annotations
 
 import importlib
 
-from bcfem.scenes.crater.params import (CLOSURE_CRITERIA, COLUMNS, DESCRIPTION, MAX_CLOSURE_PRELOAD, PRELOAD_TO_CLOSURE,
-                                        STABILITY, SUMMARY, ClosureCriteria, Params)
-
+from bcfem.scenes.crater.params import (
+    CLOSURE_CRITERIA,
+    COLUMNS,
+    DESCRIPTION,
+    MAX_CLOSURE_PRELOAD,
+    PRELOAD_TO_CLOSURE,
+    STABILITY,
+    SUMMARY,
+    ClosureCriteria,
+    Params,
+)
 
 _HEAVY = {"Crater": "model", "CraterCycle": "stages", "LINE_SEARCH_FALLBACKS": "stages", "CAREFUL": "stages",
           "classify": "report", "symmetry_breaking": "report", "plot": "report"}

@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-from bcfem.scenes.crater.params import CLOSURE_CRITERIA, COLUMNS, PRELOAD_TO_CLOSURE
+from bcfem.scenes.crater.params import CLOSURE_CRITERIA, PRELOAD_TO_CLOSURE
 from bcfem.theory.crater import permeation_estimate
-
 
 
 def finish(run, model, final: dict, V1: float, closed: bool, preload: float, zero_force: float,
