@@ -40,6 +40,7 @@ import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker  # noqa: E402
+
 OUT = ROOT / "docs" / "benchmarks"
 COMMON = {"alpha": 0.5, "adhesion": 2.5}
 CASES = {  # name -> (Params fields, bracket of Vc for the energy method, dissertation's Vc)
@@ -63,7 +64,7 @@ COMMAND = ".venv/bin/python benchmarks/blister_edges.py"
 # worker: one solve in a fresh process; prints "RESULT <json>"
 # ----------------------------------------------------------------------------------------
 def worker(case: dict) -> dict:
-    import bcfem  # noqa: F401  (before dolfinx / petsc4py)
+    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
     from bcfem.continuation import ContinuationError

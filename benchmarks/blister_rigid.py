@@ -41,6 +41,7 @@ import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker  # noqa: E402
+
 OUT = ROOT / "docs" / "benchmarks"
 GRID = [0.25 * k for k in range(1, 25)]  # V/V0 = 0.25, 0.5, ..., 6
 CELLS_DEFAULT = [25, 50, 100, 200, 400, 800, 1600, 3200]
@@ -57,14 +58,14 @@ COMMAND = ".venv/bin/python benchmarks/blister_rigid.py"
 # ----------------------------------------------------------------------------------------
 def worker(case: dict) -> dict:
     t0 = time.perf_counter()
-    import bcfem  # noqa: F401  (before dolfinx / petsc4py)
+    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
-    from bcfem.volume_control import VolumeControl
     from bcfem.params import ContinuationParams
     from bcfem.problem import Problem
     from bcfem.runner import trace
     from bcfem.scenes import blister_rigid
+    from bcfem.volume_control import VolumeControl
 
     t_import = time.perf_counter() - t0 + (t0 - T_START)
 

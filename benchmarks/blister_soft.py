@@ -38,7 +38,7 @@ COMMAND = ".venv/bin/python benchmarks/blister_soft.py"
 
 def worker(case: dict) -> dict:
     t0 = time.perf_counter()
-    import bcfem  # noqa: F401  (before dolfinx / petsc4py)
+    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
     t1 = time.perf_counter()

@@ -41,16 +41,27 @@ T_START = time.perf_counter()
 import argparse  # noqa: E402
 import hashlib  # noqa: E402
 import json  # noqa: E402
-import os  # noqa: E402
 import math  # noqa: E402
+import os  # noqa: E402
 import shutil  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import (MONOTONE_MESHES, ROOT, atomic_text, busy_cores, count_newton, csv_text, fmt,  # noqa: E402
-                    loadavg, observed_order, reference, wait_idle)
+from common import (  # noqa: E402
+    MONOTONE_MESHES,
+    ROOT,
+    atomic_text,
+    busy_cores,
+    count_newton,
+    csv_text,
+    fmt,
+    loadavg,
+    observed_order,
+    reference,
+    wait_idle,
+)
 
 OUT = ROOT / "docs" / "benchmarks"
 BIN = Path(sys.executable).parent
@@ -72,9 +83,10 @@ TIMEOUT = 180.0  # [s] a one-core run is killed after this (normal runs take 1-6
 # worker: one cycle in a fresh process; prints "RESULT <json>"
 # ----------------------------------------------------------------------------------------
 def worker(case: dict) -> dict:
-    import bcfem  # noqa: F401  (before dolfinx / petsc4py)
+    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
+    import bcfem
     from bcfem.log import configure
     from bcfem.scenes import crater
 

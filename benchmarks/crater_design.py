@@ -29,8 +29,9 @@ import sys
 import time
 from pathlib import Path
 
-from bcfem.scenes.crater.params import PRELOAD_TO_CLOSURE  # dolfinx-free
 from common import ROOT, atomic_text, busy_cores, csv_text, fmt, mpirun_bcfem, reference, run_worker, wait_idle
+
+from bcfem.scenes.crater.params import PRELOAD_TO_CLOSURE  # dolfinx-free
 
 OUT = ROOT / "docs" / "benchmarks"
 MAPS = ROOT / "docs" / "figures" / "crater_design" / "sweeps"
@@ -47,7 +48,7 @@ COLUMNS = ["point", "size_crater", "status", "dofs", "F_tilde", "F_hat", "error"
 
 
 def worker(case: dict) -> dict:
-    import bcfem  # noqa: F401  (before dolfinx / petsc4py)
+    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
     from bcfem.log import configure

@@ -28,7 +28,6 @@ import json
 import math
 import sys
 import time
-from pathlib import Path
 
 from common import ROOT, atomic_text, csv_text, fmt, mpirun_bcfem
 

@@ -206,9 +206,10 @@ def main() -> None:
     import matplotlib
 
     matplotlib.use("Agg")
+    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
+
     import matplotlib.pyplot as plt
 
-    import bcfem  # noqa: F401
     from bcfem.log import configure
 
     configure(quiet=True)

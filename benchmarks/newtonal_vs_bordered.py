@@ -25,13 +25,15 @@ from __future__ import annotations
 import argparse
 import time
 
-import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-import numpy as np
-import ufl
-from dolfinx import fem
-from dolfinx.fem.petsc import NonlinearProblem, assemble_jacobian, assemble_residual, assemble_vector, set_bc
+import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
 from mpi4py import MPI
 from petsc4py import PETSc
+
+import numpy as np
+import ufl
+from common import count_newton
+from dolfinx import fem
+from dolfinx.fem.petsc import NonlinearProblem, assemble_jacobian, assemble_residual, assemble_vector, set_bc
 
 from bcfem import options
 from bcfem.energies import MembraneStrain
@@ -39,7 +41,6 @@ from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
 from bcfem.runner import trace
 from bcfem.scenes import blister_rigid
-from common import count_newton
 
 V0 = blister_rigid.V0
 NEWTON = {"snes_rtol": 1e-10, "snes_atol": 1e-10, "snes_stol": 1e-12, "ksp_type": "preonly",
