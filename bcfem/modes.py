@@ -40,7 +40,7 @@ import ufl
 from dolfinx import default_scalar_type, fem
 from dolfinx.fem.petsc import assemble_matrix
 
-from bcfem.problem import global_dofs
+from bcfem.mpi import global_dofs
 from bcfem.stability import negative_eigenvalues
 
 

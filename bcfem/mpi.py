@@ -130,3 +130,9 @@ def sample(function: fem.Function, points: np.ndarray) -> np.ndarray:
     found = mesh.comm.allreduce(found, op=MPI.SUM)
     with np.errstate(invalid="ignore", divide="ignore"):
         return values / found[:, None]
+
+
+def global_dofs(functions) -> int:
+    """The global number of dofs (block size included) of ``functions``, on every rank."""
+    return sum(f.function_space.dofmap.index_map.size_global * f.function_space.dofmap.index_map_bs
+               for f in functions)

@@ -19,6 +19,8 @@ from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assign
 
 from bcfem import options
+from bcfem.mpi import global_dofs
+from bcfem.protocols import declared_multipliers
 
 
 class Problem:
@@ -62,7 +64,7 @@ class Problem:
         self.states = [ctx.states[n] for n in self.names]
         #: the Lagrange-multiplier states the terms declare, in state order; a state whose
         #: row is replaced (an arc-length load) is no multiplier of this problem
-        self.multipliers = _multipliers(self.terms, self.names, rows)
+        self.multipliers = declared_multipliers(self.terms, self.names, rows)
         scaled = inverse_scale * self.lagrangian
         residuals = [(rows[n] if isinstance(rows[n], ufl.Form) else rows[n](scaled)) if n in rows else
                      ufl.derivative(scaled, s, ufl.TestFunction(s.function_space))
@@ -398,18 +400,3 @@ class Problem:
         self._tangent_ksp.solve(rhs, y)
         return y
 
-
-def _multipliers(terms, names: list[str], rows: dict) -> tuple[str, ...]:
-    """The multiplier states the terms declare (``multipliers``, none if absent), in the
-    order of ``names``; each must be a state."""
-    declared = {n for t in terms for n in getattr(t, "multipliers", ())}
-    missing = declared.difference(names)
-    if missing:
-        raise ValueError(f"terms declare the multipliers {sorted(missing)}, which no term's energy created")
-    return tuple(n for n in names if n in declared and n not in rows)
-
-
-def global_dofs(functions) -> int:
-    """The global number of dofs (block size included) of ``functions``, on every rank."""
-    return sum(f.function_space.dofmap.index_map.size_global * f.function_space.dofmap.index_map_bs
-               for f in functions)

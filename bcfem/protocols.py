@@ -143,3 +143,13 @@ def find_term[T](terms: Iterable, kind: type[T]) -> T:
         raise LookupError(f"expected exactly one {kind.__name__} among the terms, found {len(found)} "
                           f"(terms: {names})")
     return found[0]
+
+
+def declared_multipliers(terms, names: list[str], rows: dict) -> tuple[str, ...]:
+    """The multiplier states the terms declare (``multipliers``, none if absent), in the
+    order of ``names``; each must be a state."""
+    declared = {n for t in terms for n in getattr(t, "multipliers", ())}
+    missing = declared.difference(names)
+    if missing:
+        raise ValueError(f"terms declare the multipliers {sorted(missing)}, which no term's energy created")
+    return tuple(n for n in names if n in declared and n not in rows)
