@@ -32,8 +32,15 @@ from bcfem.fluids import FLUIDS, Vacuum
 from bcfem.log import progress
 from bcfem.mpi import global_sum
 from bcfem.scenes.crater.model import Crater
-from bcfem.scenes.crater.params import CLOSURE_CRITERIA, MAX_CLOSURE_PRELOAD, MAX_LIFT, PRELOAD_TO_CLOSURE, Params
-from bcfem.scenes.crater.report import COLUMNS, finish, plot
+from bcfem.scenes.crater.params import (
+    CLOSURE_CRITERIA,
+    COLUMNS,
+    MAX_CLOSURE_PRELOAD,
+    MAX_LIFT,
+    PRELOAD_TO_CLOSURE,
+    Params,
+)
+from bcfem.scenes.crater.report import finish, plot
 from bcfem.stepping import LoadPath, SteppingError
 
 #: full Newton steps can cycle between two contact active sets; backtracking breaks the
