@@ -72,7 +72,9 @@ import numpy as np
 from mpi4py import MPI
 
 from bcfem import demo, io, sweep
-from bcfem.scenes import crater, crater_frames
+from bcfem.scenes import crater
+from bcfem.scenes.crater import frames as crater_frames
+from bcfem.theory.crater import eshelby_air as eshelby
 
 # %% [markdown]
 # ## Parameters
@@ -102,13 +104,6 @@ extra.add_argument("--full", action="store_true", help="the figure's grid eps = 
 full = extra.parse_known_args()[0].full
 PRELOADS = GRID["full" if full else "default"]
 SHAPE_PRELOAD = SHAPE_PRELOADS["full" if full else "default"]
-
-
-def eshelby(eps, beta, nu=0.5):
-    """Eq. 7.12 (re-derived: Eshelby's Delta V1 = -3/2 (1-nu) eps V0, Delta V2 = 3/4 dp/mu V0,
-    and Boyle's law give F/(p_a A0) as the small root of a quadratic; no typo found)."""
-    K = 4 * beta / 3
-    return 0.5 * ((1 + K) - math.sqrt((1 + K) ** 2 - 8 * (1 - nu) * beta * eps))
 
 
 # %% [markdown]
@@ -201,7 +196,7 @@ if zero_force_missed:
 # ## One cycle's deformed shapes (Fig. 7.5b)
 #
 # The drawn cycle is solved again on rank 0 alone
-# (`MPI.COMM_SELF`) with `bcfem.scenes.crater_frames.Recorder`, a model that
+# (`MPI.COMM_SELF`) with `bcfem.scenes.crater.frames.Recorder`, a model that
 # keeps a copy of the displacement at every state the solve observes (every
 # accepted loading and unloading step and the final zero-force state). The
 # solve itself is unchanged. The P2 displacement is interpolated onto P1 to

@@ -58,7 +58,8 @@ import numpy as np
 from mpi4py import MPI
 
 from bcfem import demo, io, sweep
-from bcfem.scenes import crater, crater_frames
+from bcfem.scenes import crater
+from bcfem.scenes.crater import frames as crater_frames
 
 # %% [markdown]
 # ## The maps
@@ -67,7 +68,7 @@ from bcfem.scenes import crater, crater_frames
 # subset of the same values, so its points are the full maps' points.
 
 # %%
-AIR = crater.Params(preload=crater.CLOSURE)  # the experiment's specimen, default mesh and surface energy
+AIR = crater.Params(preload=crater.PRELOAD_TO_CLOSURE)  # the experiment's specimen, default mesh and surface energy
 LIQUID = crater.Params(fluid="liquid")
 ALPHAS = [0.25, 0.4, 0.55, 0.7, 0.85, 1.0]
 STIFFNESS = [3.0, 10.0, 30.0, 100.0, 300.0]
@@ -110,7 +111,7 @@ DISSERTATION = {
     "fig8_7b_peaks": {"plain": {"alpha": 0.65, "F_hat": 0.91}, "layer": {"alpha": 0.85, "F_hat": 1.38}},
     "fig8_7cd_optimum": {"fig8_7c": {"alpha": 1.0, "preload": 0.39}, "fig8_7d": {"alpha": 1.0, "preload": 0.47}},
 }
-CLOSED = crater.CLOSED
+CLOSED = crater.CLOSURE_CRITERIA.closed
 
 comm = MPI.COMM_WORLD
 args, report = demo.setup("crater_design", "Dissertation Figures 7.9-7.12, 8.4, 8.6b, 8.7: the crater design space",
@@ -124,7 +125,7 @@ def command(name: str) -> str:
     """The ``bcfem sweep crater`` command of a map (the same points as this demo's)."""
     base, axes = MAPS[name]
     default = crater.Params()
-    fixed = [f"--{k.replace('_', '-')} {'closure' if k == 'preload' and v == crater.CLOSURE else f'{v:g}'}"
+    fixed = [f"--{k.replace('_', '-')} {'closure' if k == 'preload' and v == crater.PRELOAD_TO_CLOSURE else f'{v:g}'}"
              if k != "fluid" else f"--fluid {v}"
              for k, v in asdict(base).items() if v != getattr(default, k) and k not in axes]
     grid = [f"--grid {k}={','.join(f'{v:g}' for v in values)}" for k, values in axes.items()]
@@ -177,14 +178,14 @@ def on_saddle(r) -> bool:
 def still_open(name, r) -> bool:
     """A closure run whose crater is still open at the closure limit (eps_m None): its force
     is that of the cycle from eps = crater.MAX_CLOSURE_PRELOAD, not of a closed crater."""
-    return MAPS[name][0].preload == crater.CLOSURE and r["status"] == "ok" and r.get("eps_m", 0) is None
+    return MAPS[name][0].preload == crater.PRELOAD_TO_CLOSURE and r["status"] == "ok" and r.get("eps_m", 0) is None
 
 
 def stays_closed(name, r) -> bool:
     """An air crater closed on loading that the vacuum holds shut through the unloading: no
     cavity, so F ~ 0 (a soft or shallow crater; the summary's closure_note says so)."""
     return (MAPS[name][0].fluid == "air" and r["status"] == "ok" and r.get("eps_m") is not None
-            and r["V2_over_V0"] <= crater.CLOSURE_VOLUME)
+            and r["V2_over_V0"] <= crater.CLOSURE_CRITERIA.volume)
 
 
 def optimum(r, *keys) -> dict:
