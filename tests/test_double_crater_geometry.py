@@ -1,4 +1,4 @@
-"""The double-chamber crater: exact cavity volume and wall areas, named groups, clear errors."""
+"""The double-chamber crater: exact cavity volume and wall areas, named groups, clear errors, chamber volumes."""
 
 import functools
 import math
@@ -13,6 +13,7 @@ from dolfinx.mesh import entities_to_geometry
 from mpi4py import MPI
 
 from bcfem.cavity import Cavity
+from bcfem.chambers import ChamberSplit, plug_flux
 from bcfem.geometry.double_crater import (AXIS, BOTTOM, CORNER, EQUATOR, NECK, OUTER, PROTUBERANCE, RIM, ROOF,
                                           ROOF_RIM, SIDEWALL, SPECIMEN, TOP, WALLS, DoubleCraterGeometry,
                                           cap_volume, create_mesh)
@@ -186,3 +187,75 @@ def test_geometry_cli_writes_mesh_and_preview(tmp_path):
                           str(tmp_path / "bad.msh")], capture_output=True, text=True, timeout=300)
     assert res.returncode == 2 and "gap" in res.stderr and not (tmp_path / "bad.msh").exists()
 
+
+# the chambers C1 (plate) and C2 (roof) of the split cavity
+
+
+def split_of(data):
+    return ChamberSplit(data.mesh, data.facet_tags, SIDEWALL, ROOF, PROTUBERANCE)
+
+
+def test_plug_flux_closed_forms():
+    # a horizontal annulus at height z: z pi (r_w^2 - r_b^2)
+    assert plug_flux((0.3, 0.5), (0.52, 0.5)) == pytest.approx(0.5 * math.pi * (0.52**2 - 0.3**2), rel=1e-14)
+    # the upward cone from the apex (0, 0) to the circle (R, h): int z 2 pi r dr = 2 pi R^2 h / 3
+    assert plug_flux((0.0, 0.0), (2.0, 3.0)) == pytest.approx(2 * math.pi * 4 * 3 / 3, rel=1e-14)
+    # a closed gap, or a cylindrical plug, contributes nothing
+    assert plug_flux((0.5, 0.53), (0.5, 0.53)) == 0.0 and plug_flux((0.5, 0.5), (0.5, 0.6)) == 0.0
+
+
+@pytest.mark.mpi
+def test_chamber_volumes_at_rest_for_splits_at_chosen_heights():
+    """At rest the sidewall's walls carry no flux (N_z = 0): C1's walls give
+    V_C1(Z_b) - Z_b pi (r0^2 - rho_b^2), the chamber below the plane Z_b less its flat plug."""
+    g = DEFAULT
+    data = mesh_of(g)
+    split = split_of(data)
+    kin = solid(data)
+    forms = [fem.form(chamber.volume(kin)) for chamber in split.chambers()]  # compiled once
+    for z in (0.02, 0.2, g.contact_height, 0.75, 0.99):
+        Zw, Zb = split.move(z, z)
+        assert abs(Zw - z) < g.size_wall and abs(Zb - z) < g.size_wall
+        lower, upper = (global_sum(form) for form in forms)
+        rho = g.protuberance_radius_at(Zb)
+        plug = plug_flux((rho, Zb), (g.r0, Zb))
+        exact_lower, exact_upper = g.chamber_volumes(Zb)
+        # the error of the quadratic arcs, relative to the whole cavity
+        assert lower == pytest.approx(exact_lower - plug, rel=0, abs=1e-8 * g.crater_volume), z
+        assert upper == pytest.approx(exact_upper + plug, rel=0, abs=1e-8 * g.crater_volume), z
+        assert lower + upper == pytest.approx(g.crater_volume, rel=2e-8)
+    assert split.move(g.contact_height, g.contact_height)[1] == pytest.approx(g.centre_height, abs=1e-12)
+
+
+@pytest.mark.mpi
+def test_chambers_add_up_to_the_cavity_for_any_split():
+    """For any split, also inside facets and in a deformed state, V_C1 + V_C2 = V."""
+    data = mesh_of(DEFAULT)
+    split = split_of(data)
+    kin = solid(data, lambda x: np.vstack([0.05 * x[0] * np.sin(3 * x[1]), -0.1 * x[1] + 0.02 * x[0] ** 2]))
+    whole = cavity_volume(kin)
+    forms = [fem.form(chamber.volume(kin)) for chamber in split.chambers()]
+    for Zw, Zb in [(0.0, 0.0), (0.123456, 0.654321), (0.53, 0.5), (1.0, 1.0), (0.777, 0.031)]:
+        split.sidewall_height.value, split.protuberance_height.value = Zw, Zb
+        lower, upper = (global_sum(form) for form in forms)
+        assert lower + upper == pytest.approx(whole, rel=1e-12)
+    assert lower != pytest.approx(0.0) and upper != pytest.approx(0.0)
+
+
+@pytest.mark.mpi
+def test_sidewall_band_under_a_shear_is_its_closed_form():
+    """u_r = beta r z / r0 tilts the sidewall to r = r0 + beta Z: the band Z1 < Z < Z2 of the
+    sidewall adds -2 pi beta [r0 Z^2 / 2 + beta Z^3 / 3] from Z1 to Z2 to the volume of C1."""
+    g, beta = DEFAULT, 0.1
+    data = mesh_of(g)
+    split = split_of(data)
+    kin = solid(data, lambda x: np.vstack([beta * x[0] * x[1] / g.r0, 0 * x[1]]))
+    lower = fem.form(split.chambers()[0].volume(kin))
+
+    def primitive(Z):
+        return -2 * math.pi * beta * (g.r0 * Z**2 / 2 + beta * Z**3 / 3)
+
+    Z1, _ = split.move(0.3, 0.5)
+    below = global_sum(lower)
+    Z2, _ = split.move(0.7, 0.5)
+    assert global_sum(lower) - below == pytest.approx(primitive(Z2) - primitive(Z1), rel=1e-10)
