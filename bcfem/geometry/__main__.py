@@ -1,4 +1,4 @@
-"""``python -m bcfem.geometry crater|substrate [--field value ...] -o mesh.msh``: write a mesh and a PNG preview."""
+"""``python -m bcfem.geometry SHAPE [--field value ...] -o mesh.msh``: write a mesh and a PNG preview."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from pathlib import Path
 import bcfem  # noqa: F401  (MPI before dolfinx)
 from mpi4py import MPI
 
-from bcfem.geometry import crater, substrate
+from bcfem.geometry import crater, double_crater, substrate
 
 
 @dataclasses.dataclass(frozen=True)
@@ -27,11 +27,27 @@ class Shape:
 SHAPES = {
     "crater": Shape(crater.CraterGeometry, crater.create_mesh,
                     "cylindrical specimen with a spherical-cap crater (mm)", ("r [mm]", "z [mm]")),
+    "double-crater": Shape(double_crater.DoubleCraterGeometry, double_crater.create_mesh,
+                           "cylindrical crater with a spherical protuberance from its roof (mm)",
+                           ("r [mm]", "z [mm]"), zooms=lambda g: [gap_window(g), crater_window(g)]),
     "substrate": Shape(substrate.SubstrateGeometry, substrate.create_mesh,
                        "soft substrate graded towards the contact line (units of R0)", ("R", "Z"),
                        zooms=lambda g: [contact_window(g, g.contact_radius),
                                         contact_window(g, 50 * g.element_size(0.0))]),
 }
+
+
+def gap_window(geometry):
+    """A close-up of the gap between the sidewall and the protuberance, at their closest."""
+    g, half = geometry, 0.15 * geometry.crater_height
+    middle = 0.5 * (g.r0 + g.protuberance_radius_at(g.contact_height))
+    return (middle - half, middle + half, g.contact_height - half, g.contact_height + half)
+
+
+def crater_window(geometry):
+    """The crater, its protuberance and the rims."""
+    g = geometry
+    return (0.0, 1.25 * g.r0, 0.0, 1.25 * g.crater_height)
 
 
 def contact_window(geometry, half_width):
