@@ -730,7 +730,7 @@ def markdown(rows, info, args) -> str:
           f"How sure: every best run's CPU time is within {max(1 - r['cpu'] / r['wall'] for r in rows):.1%} of its "
           "wall time, so none of them waited for the core inside this machine. The repeats of a case still spread "
           f"(the median up to {spread_t:.0%} above the best): "
-          + ("this is a virtual machine, whose vCPUs load on the host slows without it showing as waiting"
+          + ("this is a virtual machine, and load on the host slows its vCPUs without it showing as waiting"
              if info["vm"] else "other load slows a core without it showing as waiting")
           + f"; best-of-{args.repeats} filters most of that. The ratios of the median times (last "
           f"column) are {min(meds):.2f}-{max(meds):.2f}" + (
