@@ -29,6 +29,7 @@ DEMOS := $(basename $(notdir $(wildcard demos/*.py)))
 # error against run time: docs/benchmarks/<scene>.{csv,md,png}
 bench: venv
 	$(BIN)/python benchmarks/blister_rigid.py
+	$(BIN)/python benchmarks/blister_shooting.py
 	$(BIN)/python benchmarks/blister_edges.py
 	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/newtonal_vs_bordered.py
 	$(BIN)/python benchmarks/crater_air.py
