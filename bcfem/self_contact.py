@@ -165,6 +165,10 @@ class WallSelfContact:
         local_rows = {index[2 * k]: k for k in range(owned_blocks)}
         self.owned = np.array([i for i, row in enumerate(rows) if row in local_rows], dtype=np.int64)
         self.owned_blocks = np.array([local_rows[rows[i]] for i in self.owned], dtype=np.int64)
+        # every rank's owned nodes in rank order, and their coordinate counts: the layout of
+        # one Allgatherv of the displacements (no pickling at every evaluation)
+        self.gathered = np.concatenate(comm.allgather(self.owned))
+        self.gather_counts = 2 * np.array(comm.allgather(self.owned.size))
         lengths = np.linalg.norm(self.X[self.segments[:, 1]] - self.X[self.segments[:, 0]], axis=1)
         self.segment_length = lengths
         # Simpson's weights on each P2 facet (1/6, 4/6, 1/6 of its length): the nodal forces of a
@@ -199,9 +203,10 @@ class WallSelfContact:
         this rank's nodes' ``displacement`` ((owned, 2), gathered from every rank)."""
         if displacement is None:
             displacement = self.u.x.array.reshape(-1, 2)[self.owned_blocks]
+        everyone = np.empty((len(self.gathered), 2))
+        self.comm.Allgatherv(np.ascontiguousarray(displacement, dtype=float), [everyone, self.gather_counts])
         x = self.X.copy()
-        for nodes, d in self.comm.allgather((self.owned, displacement)):
-            x[nodes] += d
+        x[self.gathered] += everyone  # each node is owned by one rank
         return x
 
     def step_bound(self, x: PETSc.Vec, y: PETSc.Vec, halvings: int = 10) -> float:
