@@ -65,11 +65,12 @@ def gap(p, a, b):
     return cross / length, np.einsum("ij,ij->i", d, v) / length2
 
 
-def _padded(lo, hi, a, b, length):
-    """Boxes (lo, hi) grown by 1e-6 of their segment's length and coordinates: far more
-    than the rounding of the gap and of the corners, so that no pair the exact test
-    accepts falls outside its box."""
-    pad = (1e-6 * (length + np.abs(a).max(axis=1) + np.abs(b).max(axis=1)))[:, None]
+def _padded(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Boxes (lo, hi) around segments grown by 1e-6 of their largest coordinate. A box holds
+    its segment, so this is at least 1e-6 of the segment's coordinates and 3e-7 of its
+    length: far more than the rounding of the gap, of xi and of the corners, so that no pair
+    the exact test accepts falls outside its box."""
+    pad = 1e-6 * np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, keepdims=True)
     return lo - pad, hi + pad
 
 
@@ -246,14 +247,14 @@ class WallSelfContact:
         """Freeze who faces whom at the state a Newton solve starts from."""
         self.facing = self._facing(self._positions())
 
-    def _windows(self, a: np.ndarray, b: np.ndarray, length: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _windows(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(lower, upper) corners of the box around each segment's window: where a node
         projects onto it (xi in [xi_min, xi_max]) and lies at most ``depth`` L behind it."""
         d = b - a
         start, end = a + self.xi_min[:, None] * d, a + self.xi_max[:, None] * d
         behind = self.depth * d[:, ::-1] * (1.0, -1.0)  # depth L along the normal into the solid
         return _padded(np.minimum(start, end) + np.minimum(behind, 0.0),
-                       np.maximum(start, end) + np.maximum(behind, 0.0), a, b, length)
+                       np.maximum(start, end) + np.maximum(behind, 0.0))
 
     def pairs(self, x: np.ndarray):
         """The contacts of this rank's nodes: (node, segment, gap) arrays, by node and then
@@ -261,25 +262,43 @@ class WallSelfContact:
 
         Only the (node, segment) pairs whose node lies in the box around the segment's
         window (:func:`bcfem.contact_search.points_in_boxes`) are tested: a contact lies
-        in that window, so the pairs are those of a test of every combination.
+        in that window, so the pairs are those of a test of every combination. Newton
+        assembles the tangent at the state of the last residual, so the last search is
+        kept and reused while the positions and who faces whom are the same.
         """
+        last = getattr(self, "_last_search", None)
+        if last is not None and last[1] is self.facing and np.array_equal(last[0], x):
+            return last[2]
+        found = self._search(x)
+        self._last_search = (x.copy(), self.facing, found)
+        return found
+
+    def _search(self, x: np.ndarray):
+        """:meth:`pairs`, searched afresh."""
         seg = self.segments
-        a, b = x[seg[:, 0]], x[seg[:, 1]]
-        length = np.linalg.norm(b - a, axis=1)
         nodes = self.owned
+        empty = np.zeros(0, dtype=np.int64)
         if nodes.size == 0 or seg.size == 0:
-            empty = np.zeros(0, dtype=np.int64)
             return empty, empty, np.zeros(0)
+        a, b = x[seg[:, 0]], x[seg[:, 1]]
+        nodes = nodes[self.weight[nodes] > 0]  # a weightless node carries no force
+        i, S = points_in_boxes(x[nodes], *self._windows(a, b))
+        P = nodes[i]
+        # a node is in the windows of its own segments, which it never touches: most often
+        # no candidate is left
+        apart = ~self.excluded[P, S]
+        if not apart.any():
+            return empty, empty, np.zeros(0)
+        P, S = P[apart], S[apart]
+        order = np.argsort(P * len(seg) + S)  # as the nodes' loop over the segments
+        P, S = P[order], S[order]
         facing = self._facing(x) if self.facing is None else self.facing
         row = np.empty(len(x), dtype=np.int64)  # node -> its row in ``facing``
-        row[nodes] = np.arange(nodes.size)
-        nodes = nodes[self.weight[nodes] > 0]  # a weightless node carries no force
-        i, S = points_in_boxes(x[nodes], *self._windows(a, b, length))
-        order = np.argsort(nodes[i] * len(seg) + S)  # as the nodes' loop over the segments
-        P, S = nodes[i[order]], S[order]
-        g, xi = gap(x[P], a[S], b[S])
-        hit = ((g <= 0) & (g > -self.depth * length[S]) & (xi >= self.xi_min[S]) & (xi < self.xi_max[S])
-               & facing[row[P], S] & ~self.excluded[P, S])
+        row[self.owned] = np.arange(self.owned.size)
+        a, b = a[S], b[S]
+        g, xi = gap(x[P], a, b)
+        hit = ((g <= 0) & (g > -self.depth * np.linalg.norm(b - a, axis=1)) & (xi >= self.xi_min[S])
+               & (xi < self.xi_max[S]) & facing[row[P], S])
         return P[hit], S[hit], g[hit]
 
     def inadmissible(self, x: np.ndarray | None = None) -> str | None:
@@ -296,8 +315,7 @@ class WallSelfContact:
         # segments that cross overlap: only the pairs of overlapping boxes are tested, in
         # the order of every pair (the first deepest crossing is reported)
         p, q = x[seg[:, 0]], x[seg[:, 1]]
-        i, j = overlapping_boxes(*_padded(np.minimum(p, q), np.maximum(p, q), p, q,
-                                          np.linalg.norm(q - p, axis=1)))
+        i, j = overlapping_boxes(*_padded(np.minimum(p, q), np.maximum(p, q)))
         apart = (seg[i, 0] != seg[j, 0]) & (seg[i, 0] != seg[j, 1]) & (seg[i, 1] != seg[j, 0]) \
             & (seg[i, 1] != seg[j, 1])
         i, j = i[apart], j[apart]
