@@ -33,8 +33,9 @@ does so when it traces a failed cycle again.
 The pairs couple boundary nodes far apart in the mesh, so this term is not a
 UFL form: it adds its residual and exact Hessian (frozen pairs) to the
 assembled system through the problem's ``add_residual``/``add_jacobian``
-hooks, on the nodes each rank owns. Small boundaries only: detection is
-all-pairs on the gathered boundary (O(10^2) nodes for a crater wall).
+hooks, on the nodes each rank owns. Every rank holds the whole boundary (O(10^2)
+nodes for a crater wall); the pairs are searched on a bucket grid
+(:mod:`bcfem.contact_search`), and the gap is evaluated for the nodes near a segment only.
 """
 
 from __future__ import annotations
@@ -47,6 +48,7 @@ from petsc4py import PETSc
 import numpy as np
 from dolfinx import fem
 
+from bcfem.contact_search import overlapping_boxes, points_in_boxes
 from bcfem.params import require
 
 _ROT = np.array([[0.0, -1.0], [1.0, 0.0]])  # d -> d_perp = (-d_z, d_r)
@@ -61,6 +63,15 @@ def gap(p, a, b):
     length = np.sqrt(length2)
     cross = d[:, 0] * v[:, 1] - d[:, 1] * v[:, 0]
     return cross / length, np.einsum("ij,ij->i", d, v) / length2
+
+
+def _padded(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Boxes (lo, hi) around segments grown by 1e-6 of their largest coordinate. A box holds
+    its segment, so this is at least 1e-6 of the segment's coordinates and 3e-7 of its
+    length: far more than the rounding of the gap, of xi and of the corners, so that no pair
+    the exact test accepts falls outside its box."""
+    pad = 1e-6 * np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, keepdims=True)
+    return lo - pad, hi + pad
 
 
 def gap_derivatives(p, a, b):
@@ -155,6 +166,10 @@ class WallSelfContact:
         local_rows = {index[2 * k]: k for k in range(owned_blocks)}
         self.owned = np.array([i for i, row in enumerate(rows) if row in local_rows], dtype=np.int64)
         self.owned_blocks = np.array([local_rows[rows[i]] for i in self.owned], dtype=np.int64)
+        # every rank's owned nodes in rank order, and their coordinate counts: the layout of
+        # one Allgatherv of the displacements (no pickling at every evaluation)
+        self.gathered = np.concatenate(comm.allgather(self.owned))
+        self.gather_counts = 2 * np.array(comm.allgather(self.owned.size))
         lengths = np.linalg.norm(self.X[self.segments[:, 1]] - self.X[self.segments[:, 0]], axis=1)
         self.segment_length = lengths
         # Simpson's weights on each P2 facet (1/6, 4/6, 1/6 of its length): the nodal forces of a
@@ -189,9 +204,10 @@ class WallSelfContact:
         this rank's nodes' ``displacement`` ((owned, 2), gathered from every rank)."""
         if displacement is None:
             displacement = self.u.x.array.reshape(-1, 2)[self.owned_blocks]
+        everyone = np.empty((len(self.gathered), 2))
+        self.comm.Allgatherv(np.ascontiguousarray(displacement, dtype=float), [everyone, self.gather_counts])
         x = self.X.copy()
-        for nodes, d in self.comm.allgather((self.owned, displacement)):
-            x[nodes] += d
+        x[self.gathered] += everyone  # each node is owned by one rank
         return x
 
     def step_bound(self, x: PETSc.Vec, y: PETSc.Vec, halvings: int = 10) -> float:
@@ -231,21 +247,58 @@ class WallSelfContact:
         """Freeze who faces whom at the state a Newton solve starts from."""
         self.facing = self._facing(self._positions())
 
+    def _windows(self, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(lower, upper) corners of the box around each segment's window: where a node
+        projects onto it (xi in [xi_min, xi_max]) and lies at most ``depth`` L behind it."""
+        d = b - a
+        start, end = a + self.xi_min[:, None] * d, a + self.xi_max[:, None] * d
+        behind = self.depth * d[:, ::-1] * (1.0, -1.0)  # depth L along the normal into the solid
+        return _padded(np.minimum(start, end) + np.minimum(behind, 0.0),
+                       np.maximum(start, end) + np.maximum(behind, 0.0))
+
     def pairs(self, x: np.ndarray):
-        """The contacts of this rank's nodes: (node, segment, gap) arrays."""
+        """The contacts of this rank's nodes: (node, segment, gap) arrays, by node and then
+        segment.
+
+        Only the (node, segment) pairs whose node lies in the box around the segment's
+        window (:func:`bcfem.contact_search.points_in_boxes`) are tested: a contact lies
+        in that window, so the pairs are those of a test of every combination. Newton
+        assembles the tangent at the state of the last residual, so the last search is
+        kept and reused while the positions and who faces whom are the same.
+        """
+        last = getattr(self, "_last_search", None)
+        if last is not None and last[1] is self.facing and np.array_equal(last[0], x):
+            return last[2]
+        found = self._search(x)
+        self._last_search = (x.copy(), self.facing, found)
+        return found
+
+    def _search(self, x: np.ndarray):
+        """:meth:`pairs`, searched afresh."""
         seg = self.segments
-        a, b = x[seg[:, 0]], x[seg[:, 1]]
-        length = np.linalg.norm(b - a, axis=1)
         nodes = self.owned
+        empty = np.zeros(0, dtype=np.int64)
         if nodes.size == 0 or seg.size == 0:
-            empty = np.zeros(0, dtype=np.int64)
             return empty, empty, np.zeros(0)
-        facing = (self._facing(x) if self.facing is None else self.facing).reshape(-1)
-        P = np.repeat(nodes, len(seg))
-        S = np.tile(np.arange(len(seg)), nodes.size)
-        g, xi = gap(x[P], a[S], b[S])
-        hit = ((g <= 0) & (g > -self.depth * length[S]) & (xi >= self.xi_min[S]) & (xi < self.xi_max[S]) & facing
-               & ~self.excluded[P, S] & (self.weight[P] > 0))
+        a, b = x[seg[:, 0]], x[seg[:, 1]]
+        nodes = nodes[self.weight[nodes] > 0]  # a weightless node carries no force
+        i, S = points_in_boxes(x[nodes], *self._windows(a, b))
+        P = nodes[i]
+        # a node is in the windows of its own segments, which it never touches: most often
+        # no candidate is left
+        apart = ~self.excluded[P, S]
+        if not apart.any():
+            return empty, empty, np.zeros(0)
+        P, S = P[apart], S[apart]
+        order = np.argsort(P * len(seg) + S)  # as the nodes' loop over the segments
+        P, S = P[order], S[order]
+        facing = self._facing(x) if self.facing is None else self.facing
+        row = np.empty(len(x), dtype=np.int64)  # node -> its row in ``facing``
+        row[self.owned] = np.arange(self.owned.size)
+        a, b = a[S], b[S]
+        g, xi = gap(x[P], a, b)
+        hit = ((g <= 0) & (g > -self.depth * np.linalg.norm(b - a, axis=1)) & (xi >= self.xi_min[S])
+               & (xi < self.xi_max[S]) & facing[row[P], S])
         return P[hit], S[hit], g[hit]
 
     def inadmissible(self, x: np.ndarray | None = None) -> str | None:
@@ -259,7 +312,10 @@ class WallSelfContact:
         """
         x = self._positions() if x is None else x
         seg = self.segments
-        i, j = np.triu_indices(len(seg), k=1)
+        # segments that cross overlap: only the pairs of overlapping boxes are tested, in
+        # the order of every pair (the first deepest crossing is reported)
+        p, q = x[seg[:, 0]], x[seg[:, 1]]
+        i, j = overlapping_boxes(*_padded(np.minimum(p, q), np.maximum(p, q)))
         apart = (seg[i, 0] != seg[j, 0]) & (seg[i, 0] != seg[j, 1]) & (seg[i, 1] != seg[j, 0]) \
             & (seg[i, 1] != seg[j, 1])
         i, j = i[apart], j[apart]

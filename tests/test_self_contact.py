@@ -336,3 +336,165 @@ def test_assembled_contact_residual_and_tangent_are_derivatives():
         assert alone["active"] == result["active"]
         for key in ("energy", "dE", "F", "Jdx"):
             assert result[key] == pytest.approx(alone[key], rel=1e-9), key
+
+
+# -- the bucketed search finds what a test of every combination finds ------------------------
+def every_pair(term, x):
+    """Reference for ``pairs``: the gap of every (owned node, segment) combination."""
+    seg = term.segments
+    a, b = x[seg[:, 0]], x[seg[:, 1]]
+    length = np.linalg.norm(b - a, axis=1)
+    nodes = term.owned
+    facing = (term._facing(x) if term.facing is None else term.facing).reshape(-1)
+    P = np.repeat(nodes, len(seg))
+    S = np.tile(np.arange(len(seg)), nodes.size)
+    g, xi = gap(x[P], a[S], b[S])
+    hit = ((g <= 0) & (g > -term.depth * length[S]) & (xi >= term.xi_min[S]) & (xi < term.xi_max[S]) & facing
+           & ~term.excluded[P, S] & (term.weight[P] > 0))
+    return P[hit], S[hit], g[hit]
+
+
+def every_crossing(term, x):
+    """Reference for ``inadmissible``: every pair of segments that share no node; returns
+    (the message's depth and place, or None) and the number of crossings."""
+    seg = term.segments
+    i, j = np.triu_indices(len(seg), k=1)
+    apart = np.all(seg[i][:, :, None] != seg[j][:, None, :], axis=(1, 2))
+    i, j = i[apart], j[apart]
+    p, q, a, b = x[seg[i, 0]], x[seg[i, 1]], x[seg[j, 0]], x[seg[j, 1]]
+    g_p, g_q, g_a, g_b = gap(p, a, b)[0], gap(q, a, b)[0], gap(a, p, q)[0], gap(b, p, q)[0]
+    cross = (g_p * g_q < 0) & (g_a * g_b < 0)
+    depth = np.where(cross, np.minimum(-np.minimum(g_a, g_b) / np.linalg.norm(q - p, axis=1),
+                                       -np.minimum(g_p, g_q) / np.linalg.norm(b - a, axis=1)), 0.0)
+    worst = int(np.argmax(depth)) if depth.size else 0
+    if not cross.any() or depth[worst] <= term.depth:
+        return None, int(cross.sum())
+    r, z = 0.5 * (p[worst] + q[worst])
+    return f"near (r, z) = ({r:.4g}, {z:.4g}), {depth[worst]:.2f} segment lengths deep", int(cross.sum())
+
+
+def assert_same_search(term, x):
+    """``pairs`` and ``inadmissible`` at x are those of the references, to the bit and in
+    the same order; returns (contacts, crossings) for the caller to check it tested some."""
+    found, reference = term.pairs(x), every_pair(term, x)
+    for mine, theirs in zip(found, reference):
+        assert mine.dtype == theirs.dtype and np.array_equal(mine, theirs)
+    message, crossings = every_crossing(term, x)
+    verdict = term.inadmissible(x)
+    assert (verdict is None) == (message is None), (verdict, message)
+    assert message is None or message in verdict
+    return len(reference[0]), crossings
+
+
+def chain(points, depth=0.25, owned=None, zero_weight=()):
+    """A self-contact term on one polyline (solid on the right), with every attribute
+    ``pairs`` reads set as :meth:`WallSelfContact.bind` sets them for a chain."""
+    term = boundary(points, depth)
+    n, m = len(term._positions()), len(term.segments)
+    term.X = term._positions()
+    term.owned = np.arange(n) if owned is None else np.asarray(owned)
+    term.weight = np.ones(n)
+    term.weight[list(zero_weight)] = 0.0
+    term.xi_min = np.where(np.arange(m) == 0, -0.5, 0.0)  # the free ends reach half a segment
+    term.xi_max = np.where(np.arange(m) == m - 1, 1.5, 1.0)
+    term.excluded = np.zeros((n, m), dtype=bool)
+    for s in range(m):
+        term.excluded[max(s - 1, 0):s + 3, s] = True  # the segment's nodes and their neighbours
+    term.facing = None
+    return term
+
+
+def folded(spacing, layers=5, per_layer=12, tilt=0.5):
+    """An accordion: ``layers`` straight runs of unit segments ``spacing`` apart, joined by
+    hairpins. The third and fourth runs are shifted by half a segment, so that nodes fall at
+    the ends (xi = 0, 1) and at the middle of the segments of the next run; the fourth is
+    tilted by ``tilt``, so that it passes through its neighbours (a fold pressed through
+    itself). Binary fractions: gaps of exactly 0 and exactly -``spacing`` occur."""
+    points = []
+    for k in range(layers):
+        r = np.arange(per_layer + 1) + 0.5 * (k // 2 % 2)
+        z = -spacing * k + (tilt * (r - per_layer / 2) if k == 3 else 0.0 * r)
+        run = np.column_stack([r, z]) if k % 2 == 0 else np.column_stack([r, z])[::-1]
+        points += list(run)
+        direction = 1.0 if k % 2 == 0 else -1.0
+        points.append((run[-1, 0] + 0.5 * direction, run[-1, 1] - spacing / 2))  # the hairpin
+    return np.array(points[:-1])
+
+
+def test_search_finds_every_pair_on_random_polylines():
+    rng = np.random.default_rng(26)
+    contacts = crossings = vetoed = 0
+    for trial in range(40):
+        # a random walk crosses and overlaps itself at every scale of segment length
+        n = int(rng.integers(2, 150))
+        x = np.cumsum(rng.normal(size=(n, 2)) * rng.uniform(0.05, 1.0, size=(n, 1)), axis=0)
+        owned = np.sort(rng.choice(n, size=max(1, n // 2), replace=False)) if trial % 2 else None
+        term = chain(x, depth=float(rng.uniform(0.05, 0.95)), owned=owned,
+                     zero_weight=rng.choice(n, size=n // 5, replace=False))
+        if trial % 3 == 0:  # facing frozen at another state, as within a Newton solve
+            term.facing = rng.random((len(term.owned), len(term.segments))) < 0.5
+        found = assert_same_search(term, x)
+        contacts, crossings = contacts + found[0], crossings + found[1]
+        vetoed += term.inadmissible(x) is not None
+    assert contacts > 100 and crossings > 100 and 0 < vetoed < 40
+
+
+@pytest.mark.parametrize("depth", [0.25, 0.5])
+@pytest.mark.parametrize("spacing", [0.0, 0.1, 0.25, 0.5])
+def test_search_finds_every_pair_on_folds(depth, spacing):
+    # spacing 0 puts nodes on other segments (g = 0), spacing = depth exactly at the far
+    # edge of their windows (g = -depth L)
+    x = folded(spacing)
+    axis = np.flatnonzero(x[:, 0] == 0.5)  # weightless nodes, as those on the axis
+    term = chain(x, depth=depth, zero_weight=axis)
+    contacts, crossings = assert_same_search(term, x)
+    # at spacing 0.25 the tilted run's nodes land exactly on its neighbours: no crossing
+    assert contacts > 0 and (crossings > 0) == (spacing != 0.25)
+    # the tilted run passes deeper than the window through its neighbours
+    assert (term.inadmissible(x) is None) == (spacing != 0.1 or depth != 0.25)
+    # rotated and translated off the grid, and in a large coordinate offset
+    c, s = math.cos(0.3), math.sin(0.3)
+    for y in (x @ np.array([[c, s], [-s, c]]) + (3.0, -7.0), x + 1e4):
+        assert_same_search(chain(y, depth=depth, zero_weight=axis), y)
+
+
+def test_search_skips_what_is_not_finite():
+    # a diverged Newton iterate: no pair involves a node that is not finite
+    x = folded(0.1)
+    term = chain(x)
+    with np.errstate(invalid="ignore"):
+        for bad in (np.nan, np.inf):
+            y = x.copy()
+            y[[3, 40]] = bad
+            assert_same_search(term, y)
+        assert all(len(a) == 0 for a in term.pairs(np.full_like(x, np.nan)))
+
+
+def search_on_the_slot(comm):
+    """``pairs`` and ``inadmissible`` of the slot's faces, bound on the mesh (pairs across
+    ranks under mpirun), against the references: in contact, in random perturbations of
+    it, and with the upper face pushed through the lower one in a wave (a fold)."""
+    problem, contact, _, dx = overlapping(comm)
+    rng = np.random.default_rng(7 + comm.rank)
+    with problem:
+        x0 = contact._positions()
+        L = float(np.median(contact.segment_length))
+        contacts = assert_same_search(contact, x0)[0]
+        upper = contact.X[:, 1] > LOWER + SLOT / 2
+        for scale in (0.01, 0.1, 0.5):
+            noise = comm.bcast(rng.normal(size=x0.shape) * scale * L, root=0)
+            contacts += assert_same_search(contact, x0 + noise)[0]
+        for amplitude in (0.1, 0.5, 2.0):
+            x = x0.copy()
+            x[upper, 1] -= amplitude * L * (1 + np.sin(9 * contact.X[upper, 0]))
+            contacts += assert_same_search(contact, x)[0]  # who faces whom frozen at x0
+            contact.facing = None  # and as at x
+            contacts += assert_same_search(contact, x)[0]
+            contact.begin_solve()
+        dx.destroy()
+    return comm.allreduce(contacts, op=MPI.SUM)
+
+
+@pytest.mark.mpi
+def test_search_finds_every_pair_on_the_slot():
+    assert search_on_the_slot(MPI.COMM_WORLD) > 100
