@@ -28,12 +28,12 @@ import traceback
 import uuid
 from pathlib import Path
 
-import numpy as np
 from mpi4py import MPI
+
+import numpy as np
 
 from bcfem import io
 from bcfem.log import logger
-
 
 #: kept in a point's record, not in sweep.csv (which depends on the results alone)
 RECORD_ONLY = {"budgets", "solve_time_s"}
@@ -175,7 +175,8 @@ def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool 
             wall = time.perf_counter() - t0
             io.write_json(out / "timing.json", {
                 "solved": total_done, "reused": total_skipped, "failed": sum(r["status"] != "ok" for r in rows),
-                "ranks": comm.size, "wall_time_s": wall, "core_seconds_per_solved_point": wall * comm.size / total_done},
+                "ranks": comm.size, "wall_time_s": wall,
+                "core_seconds_per_solved_point": wall * comm.size / total_done},
                 comm)
     logger.info(f"sweep: {total_done} points solved, {total_skipped} reused, "
                 f"{sum(r['status'] != 'ok' for r in rows)} failed -> {out / 'sweep.csv'}")

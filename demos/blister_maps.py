@@ -70,11 +70,12 @@ import math
 import time
 from dataclasses import asdict, replace
 
-import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-import numpy as np
 from mpi4py import MPI
+
+import numpy as np
 from scipy.interpolate import CubicSpline
 
+import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, demo, io, sweep
 from bcfem.continuation import ContinuationError
 from bcfem.log import logger

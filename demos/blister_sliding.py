@@ -66,10 +66,11 @@ import math
 import time
 from dataclasses import asdict
 
-import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-import numpy as np
 from mpi4py import MPI
 
+import numpy as np
+
+import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, demo, io
 from bcfem.runner import branch_of
 from bcfem.scenes import blister_rigid
@@ -314,7 +315,7 @@ small_45 = {str(a): branches[45.0, a].rows[0]["contact_angle_deg"] for a in ALPH
 report(f"alpha=0: max |theta - 90| = {checks['alpha0']['max_angle_error_deg']:.2e} deg for V/V0 >= {V_EDGE}; "
        f"z(0)/r1 at V/V0={V_MAX:g}: {checks['alpha0']['z0_over_r1_at_v_max']:.5f} "
        f"(dissertation: plateau 1)")
-report("phi_Y=90: max |theta - 90| [deg] for V/V0 >= {:g}: ".format(V_EDGE)
+report(f"phi_Y=90: max |theta - 90| [deg] for V/V0 >= {V_EDGE:g}: "
        + ", ".join(f"alpha={a}: {e:.1e}" for a, e in checks["phi_Y_90_max_angle_error_deg"].items()))
 for phi_Y, d in checks["droplet"].items():
     report(f"droplet limit, phi_Y={phi_Y}: max |theta - phi_Y| = {d['max_angle_error_deg']:.3f} deg, "
@@ -327,7 +328,7 @@ report(f"droplet aspect at phi_Y=135: ours z(0)/r1 = {ours:.4f} (1 + sqrt 2 = {1
        f"relative difference {ours / printed - 1:+.1%}")
 report("large-V angle between 90 deg and phi_Y: " + str(checks["between_90_and_phi_Y"])
        + "; monotone towards phi_Y in alpha: " + str(checks["towards_phi_Y_with_alpha"]))
-report("eq. 3.70 at V/V0 = {:g}: ".format(V_MAX)
+report(f"eq. 3.70 at V/V0 = {V_MAX:g}: "
        + ", ".join(f"{k}: N_r={v['N_r_edge']:.4f}, residual {v['residual']:+.1e}"
                    for k, v in checks["eq_3_70_residual"].items()))
 report(f"phi_Y=45 contact angle at V/V0={V_START}: "

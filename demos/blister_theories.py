@@ -49,11 +49,12 @@ import math
 import time
 from dataclasses import asdict
 
-import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-import numpy as np
 from mpi4py import MPI
+
+import numpy as np
 from scipy.interpolate import CubicSpline
 
+import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, demo, io
 from bcfem.runner import branch_of
 from bcfem.scenes import blister_rigid

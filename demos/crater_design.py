@@ -53,10 +53,11 @@ import textwrap
 import time
 from dataclasses import asdict, replace
 
-import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-import numpy as np
 from mpi4py import MPI
 
+import numpy as np
+
+import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import demo, io, sweep
 from bcfem.scenes import crater
 from bcfem.scenes.crater import frames as crater_frames

@@ -5,18 +5,35 @@ import math
 import subprocess
 import sys
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
 import ufl
 from dolfinx import fem
 from dolfinx.mesh import entities_to_geometry
-from mpi4py import MPI
 
 from bcfem.cavity import Cavity
 from bcfem.chambers import ChamberSplit, plug_flux
-from bcfem.geometry.double_crater import (AXIS, BOTTOM, CORNER, EQUATOR, NECK, OUTER, PROTUBERANCE, RIM, ROOF,
-                                          ROOF_RIM, SIDEWALL, SPECIMEN, TOP, WALLS, DoubleCraterGeometry,
-                                          cap_volume, create_mesh)
+from bcfem.geometry.double_crater import (
+    AXIS,
+    BOTTOM,
+    CORNER,
+    EQUATOR,
+    NECK,
+    OUTER,
+    PROTUBERANCE,
+    RIM,
+    ROOF,
+    ROOF_RIM,
+    SIDEWALL,
+    SPECIMEN,
+    TOP,
+    WALLS,
+    DoubleCraterGeometry,
+    cap_volume,
+    create_mesh,
+)
 from bcfem.mpi import global_sum
 from bcfem.solid import AxisymmetricSolid
 

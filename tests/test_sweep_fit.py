@@ -4,13 +4,14 @@
 import json
 from dataclasses import replace
 
+from mpi4py import MPI
+
 import numpy as np
 import pytest
-from mpi4py import MPI
+from helpers import bcfem
 
 from bcfem import sweep
 from bcfem.scenes import blister_rigid, blister_studies
-from helpers import bcfem
 
 GRID = ["sweep", "blister-rigid", "--grid", "alpha=0:2:2", "--grid", "adhesion=1:4:2",
         "--material", "gent", "--v-max", "20", "--cells", "30", "--quiet"]

@@ -7,9 +7,9 @@ import dataclasses
 import sys
 from pathlib import Path
 
-import bcfem  # noqa: F401  (MPI before dolfinx)
 from mpi4py import MPI
 
+import bcfem  # noqa: F401  (MPI before dolfinx)
 from bcfem.geometry import crater, double_crater, substrate
 
 
