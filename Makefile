@@ -16,11 +16,13 @@ MPI_PYTEST := PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytes
 
 # the fast tier: term battery, toys, every scene on a tiny mesh, CLI contracts, MPI on small cases
 test: venv
+	$(BIN)/ruff check .
 	$(PYTEST) --durations=10 tests
 	$(MPI_PYTEST) -m "mpi and not slow and not convergence and not demo" tests
 
 # everything: adds full crater cycles, convergence studies and the demos (serial and on NP ranks)
 test-all: venv
+	$(BIN)/ruff check .
 	$(PYTEST) -m "" --durations=20 tests
 	$(MPI_PYTEST) -m "mpi" tests
 
@@ -35,6 +37,8 @@ bench: venv
 	$(BIN)/python benchmarks/crater_air.py
 	$(BIN)/python benchmarks/crater_design.py
 	$(BIN)/python benchmarks/crater_regulariser.py
+	$(BIN)/python benchmarks/blister_soft.py
+	$(BIN)/python benchmarks/droplet_soft.py
 
 # the dissertation's figures, reproduced by the demos on $(NP) ranks: docs/figures/<demo>/
 # (--full: the published grids; demos without such a grid ignore it)
