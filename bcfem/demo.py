@@ -5,12 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from mpi4py import MPI
-
 from bcfem.log import configure
 
 
-def setup(name: str, description: str, comm=MPI.COMM_WORLD):
+def setup(name: str, description: str, comm):
     """Parse ``--out`` (default ``results/<name>``) and ``--quiet``; configure logging.
 
     Returns:

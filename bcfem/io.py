@@ -14,8 +14,6 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from mpi4py import MPI
-
 
 def _umask() -> int:
     mask = os.umask(0)
@@ -36,7 +34,7 @@ def _atomic_write(path: Path, write) -> None:
         raise
 
 
-def write_csv(path, rows: list[dict], comm=MPI.COMM_WORLD, columns: list[str] | None = None) -> None:
+def write_csv(path, rows: list[dict], comm, columns: list[str] | None = None) -> None:
     """Write ``rows`` (dicts) as CSV on rank 0; columns default to the first row's keys."""
     if comm.rank != 0:
         return
@@ -63,7 +61,7 @@ def read_csv(path) -> list[dict]:
         return [{k: convert(v) for k, v in row.items()} for row in csv.DictReader(f)]
 
 
-def write_json(path, data: dict, comm=MPI.COMM_WORLD) -> None:
+def write_json(path, data: dict, comm) -> None:
     """Write ``data`` as indented JSON on rank 0."""
     if comm.rank != 0:
         return
@@ -78,7 +76,7 @@ def _jsonable(obj):
     raise TypeError(f"not JSON serialisable: {type(obj)}")
 
 
-def save_figure(fig, path, comm=MPI.COMM_WORLD) -> None:
+def save_figure(fig, path, comm) -> None:
     """Save a matplotlib figure atomically (rank 0)."""
     if comm.rank != 0:
         return

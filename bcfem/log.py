@@ -5,12 +5,10 @@ from __future__ import annotations
 import logging
 import sys
 
-from mpi4py import MPI
-
 logger = logging.getLogger("bcfem")
 
 
-def configure(comm=MPI.COMM_WORLD, quiet: bool = False) -> None:
+def configure(comm, quiet: bool = False) -> None:
     """Send bcfem's log to stderr on rank 0 only; silence other ranks."""
     logger.handlers.clear()
     logger.propagate = False

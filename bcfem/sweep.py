@@ -28,8 +28,6 @@ import traceback
 import uuid
 from pathlib import Path
 
-from mpi4py import MPI
-
 import numpy as np
 
 from bcfem import io
@@ -113,7 +111,7 @@ def _rerun(row: dict, budgets: dict, retry_failed: bool) -> bool:
     return retry_failed or any(k not in recorded or v > recorded[k] for k, v in budgets.items())
 
 
-def run(points, solve_point, out: Path, comm=MPI.COMM_WORLD, retry_failed: bool = False) -> list[dict]:
+def run(points, solve_point, out: Path, comm, retry_failed: bool = False) -> list[dict]:
     """Solve ``points`` (from :func:`grid_points`) over the ranks of ``comm``; return all rows.
 
     Args:
@@ -189,7 +187,7 @@ def _computed(rows, panels):
     return [p for p in panels if any(r.get(p[0]) is not None for r in rows)] or panels
 
 
-def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str, path, comm=MPI.COMM_WORLD):
+def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str, path, comm):
     """One filled contour per (column, label) over the (x, y) grid; failed points are blank."""
     if comm.rank != 0:
         return
@@ -220,7 +218,7 @@ def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str
     io.save_figure(fig, path, comm)
 
 
-def curves(rows, x: str, panels: list[tuple[str, str]], title: str, path, comm=MPI.COMM_WORLD):
+def curves(rows, x: str, panels: list[tuple[str, str]], title: str, path, comm):
     """One panel per (column, label) against the single grid axis; failed points are gaps."""
     if comm.rank != 0:
         return

@@ -39,7 +39,7 @@ import math  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker  # noqa: E402
+from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker, save_figure  # noqa: E402
 
 OUT = ROOT / "docs" / "benchmarks"
 COMMON = {"alpha": 0.5, "adhesion": 2.5}
@@ -208,7 +208,6 @@ def series(rows, name, degree, method):
 
 
 def write_outputs(rows, refs, args):
-    from bcfem import io
     from bcfem.plots import pyplot
 
     atomic_text(OUT / "blister-edges.csv", csv_text(rows, COLUMNS))
@@ -236,7 +235,7 @@ def write_outputs(rows, refs, args):
     fig.suptitle("Delamination onset, alpha = 0.5, (gamma_ls - dgamma)/(mu t0) = 2.5: error against wall time "
                  "(numbers: cells across R0)", fontsize=10)
     fig.tight_layout()
-    io.save_figure(fig, OUT / "blister-edges.png")
+    save_figure(fig, OUT / "blister-edges.png")
     plt.close(fig)
     atomic_text(OUT / "blister-edges.md", markdown(rows, refs, args))
 

@@ -40,7 +40,7 @@ import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker  # noqa: E402
+from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker, save_figure  # noqa: E402
 
 OUT = ROOT / "docs" / "benchmarks"
 GRID = [0.25 * k for k in range(1, 25)]  # V/V0 = 0.25, 0.5, ..., 6
@@ -292,7 +292,6 @@ def best(rows, err, t, tol):
 
 
 def write_outputs(rows, ref, args):
-    from bcfem import io
     from bcfem.plots import pyplot
 
     atomic_text(OUT / "blister-rigid.csv", csv_text(rows, COLUMNS))
@@ -322,7 +321,7 @@ def write_outputs(rows, ref, args):
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=6.5, loc="upper right")
     fig.tight_layout()
-    io.save_figure(fig, OUT / "blister-rigid.png")
+    save_figure(fig, OUT / "blister-rigid.png")
     atomic_text(OUT / "blister-rigid.md", markdown(rows, ref, args))
 
 

@@ -561,7 +561,8 @@ def frontier(rows, method: str, key: str, errors) -> list[float]:
 
 
 def write_figure(rows, ref_P, floor: float, path: Path) -> None:
-    from bcfem import io
+    from common import save_figure
+
     from bcfem.plots import pyplot
 
     plt = pyplot()
@@ -602,7 +603,7 @@ def write_figure(rows, ref_P, floor: float, path: Path) -> None:
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=7, frameon=False)
     fig.suptitle(f"clamped neo-Hookean blister, alpha = 0: P_max = {ref_P:.12f}; whole processes, one core", fontsize=9)
     fig.tight_layout(rect=(0, 0.1, 1, 1))
-    io.save_figure(fig, path)
+    save_figure(fig, path)
 
 
 def markdown(rows, info, args) -> str:

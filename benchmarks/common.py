@@ -127,6 +127,15 @@ def atomic_text(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+def save_figure(fig, path: Path) -> None:
+    """Save a driver's figure: the driver is one process, whatever ranks its runs used."""
+    from mpi4py import MPI
+
+    from bcfem import io as bcfem_io
+
+    bcfem_io.save_figure(fig, path, MPI.COMM_SELF)
+
+
 #: the finest meshes whose differences must keep their sign and shrink for Richardson
 MONOTONE_MESHES = 4
 

@@ -60,6 +60,7 @@ from common import (  # noqa: E402
     loadavg,
     observed_order,
     reference,
+    save_figure,
     wait_idle,
 )
 
@@ -373,7 +374,6 @@ COLUMNS = ["eps", "size_crater", "surface_energy", "ranks", "dofs", "wall_time_s
 
 
 def write_outputs(rows, refs, mpi, args):
-    from bcfem import io
     from bcfem.plots import pyplot
 
     for r in rows:  # the CSV's wall time: the one-core solve (build + both stages), or the 2-rank process
@@ -428,7 +428,7 @@ def write_outputs(rows, refs, mpi, args):
     fig.suptitle("air-filled crater (alpha = 1, beta = 0.467), P2-P1 Taylor-Hood, surface_energy = 0.01",
                  fontsize=10)
     fig.tight_layout()
-    io.save_figure(fig, OUT / "crater-air.png")
+    save_figure(fig, OUT / "crater-air.png")
     plt.close(fig)
     atomic_text(OUT / "crater-air.md", markdown(rows, refs, mpi, args))
 

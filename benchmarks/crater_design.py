@@ -29,7 +29,18 @@ import sys
 import time
 from pathlib import Path
 
-from common import ROOT, atomic_text, busy_cores, csv_text, fmt, mpirun_bcfem, reference, run_worker, wait_idle
+from common import (
+    ROOT,
+    atomic_text,
+    busy_cores,
+    csv_text,
+    fmt,
+    mpirun_bcfem,
+    reference,
+    run_worker,
+    save_figure,
+    wait_idle,
+)
 
 from bcfem.scenes.crater.params import PRELOAD_TO_CLOSURE  # dolfinx-free
 
@@ -149,7 +160,6 @@ def maps() -> list[dict]:
 
 
 def write(rows, refs, timings, wall, load) -> None:
-    from bcfem import io
     from bcfem.plots import pyplot
 
     atomic_text(OUT / "crater-design.csv", csv_text(rows, COLUMNS))
@@ -172,7 +182,7 @@ def write(rows, refs, timings, wall, load) -> None:
     ax.legend(fontsize=7)
     ax.set_title("crater design space: mesh convergence of the suction force", fontsize=9)
     fig.tight_layout()
-    io.save_figure(fig, OUT / "crater-design.png")
+    save_figure(fig, OUT / "crater-design.png")
     plt.close(fig)
     atomic_text(OUT / "crater-design.md", markdown(rows, refs, timings, wall, load))
 

@@ -29,7 +29,7 @@ import math
 import sys
 import time
 
-from common import ROOT, atomic_text, csv_text, fmt, mpirun_bcfem
+from common import ROOT, atomic_text, csv_text, fmt, mpirun_bcfem, save_figure
 
 OUT = ROOT / "docs" / "benchmarks"
 SWEEPS = OUT / "crater-regulariser"
@@ -136,7 +136,6 @@ def main() -> None:
 
 
 def plot(rows, halving_keys) -> None:
-    from bcfem import io
     from bcfem.plots import pyplot
 
     plt = pyplot()
@@ -160,7 +159,7 @@ def plot(rows, halving_keys) -> None:
     bottom.legend(fontsize=7)
     bottom.grid(alpha=0.3, which="both")
     fig.tight_layout()
-    io.save_figure(fig, OUT / "crater-regulariser.png")
+    save_figure(fig, OUT / "crater-regulariser.png")
     plt.close(fig)
 
 

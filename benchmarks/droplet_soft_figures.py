@@ -207,12 +207,13 @@ def main() -> None:
 
     matplotlib.use("Agg")
     import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
+    from mpi4py import MPI
 
     import matplotlib.pyplot as plt
 
     from bcfem.log import configure
 
-    configure(quiet=True)
+    configure(MPI.COMM_WORLD, quiet=True)
     OUT.mkdir(parents=True, exist_ok=True)
     numbers: dict = {}
     for name, draw in (("fig5_4", fig5_4), ("fig5_5", fig5_5), ("fig5_6", fig5_6), ("fig5_7", fig5_7),

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.serial
+pytestmark = [pytest.mark.serial, pytest.mark.slow, pytest.mark.demo]
 
 BIN = Path(sys.executable).parent
 DEMOS = sorted((Path(__file__).resolve().parents[1] / "demos").glob("*.py"))

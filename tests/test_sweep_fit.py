@@ -85,13 +85,13 @@ def test_a_larger_budget_retries_only_the_points_that_ran_out(tmp_path):
             raise RuntimeError(f"more than {params.max_snaps} snaps")
         return {"value": params.alpha}
 
-    assert [r["status"] for r in sweep.run(points(6), solve, tmp_path)] == ["ok", "failed"]
+    assert [r["status"] for r in sweep.run(points(6), solve, tmp_path, MPI.COMM_WORLD)] == ["ok", "failed"]
     assert [sweep.point_key({"alpha": 1.0}, p) for _, p in points(6)] == \
         [sweep.point_key({"alpha": 1.0}, p) for _, p in points(24)]
     for budget in (6, 3):  # the same or a smaller budget: nothing to gain
-        assert [r["status"] for r in sweep.run(points(budget), solve, tmp_path)] == ["ok", "failed"]
+        assert [r["status"] for r in sweep.run(points(budget), solve, tmp_path, MPI.COMM_WORLD)] == ["ok", "failed"]
     assert calls == [(0.5, 6), (1.0, 6)]
-    rows = sweep.run(points(24), solve, tmp_path)
+    rows = sweep.run(points(24), solve, tmp_path, MPI.COMM_WORLD)
     assert [r["status"] for r in rows] == ["ok", "ok"] and calls[2:] == [(1.0, 24)]
     assert "budgets" not in (tmp_path / "sweep.csv").read_text() and rows[1]["solve_time_s"] >= 0
 
@@ -107,7 +107,7 @@ def solve(params, comm):
     return {"rank": MPI.COMM_WORLD.rank}
 
 rows = sweep.run(sweep.grid_points(blister_rigid.Params(), [("alpha", [0.0, 1.0, 2.0, 3.0, 4.0])]), solve,
-                 sys.argv[1])
+                 sys.argv[1], MPI.COMM_WORLD)
 if MPI.COMM_WORLD.rank == 0:
     print(json.dumps([r["rank"] for r in rows]))
 """
@@ -135,7 +135,7 @@ def test_maps_of_failed_points_and_one_value_axes(tmp_path):
     """A sweep whose points all failed still draws its maps (blank panels), and an axis
     with one value is a constant: the CLI then draws curves over the other axis."""
     rows = [{"a": a, "b": b, "status": "failed", "reason": "x"} for a in (1.0, 2.0) for b in (3.0, 4.0)]
-    sweep.contour_maps(rows, "a", "b", [("F", "F")], "t", tmp_path / "maps.png")
+    sweep.contour_maps(rows, "a", "b", [("F", "F")], "t", tmp_path / "maps.png", MPI.COMM_WORLD)
     assert (tmp_path / "maps.png").stat().st_size > 0
     res = bcfem("sweep", "blister-rigid", "--grid", "alpha=0,1", "--grid", "adhesion=1", "--v-max", "2",
                 "--out", tmp_path / "one", "--quiet")
