@@ -161,6 +161,7 @@ def test_linear_ridge_height_converges(case):
     params = {"gamma_s": 0.1, "gamma_l": 0.1, "gamma_ls": 0.1, "size_contact": 0.01, **case}
     errors = [solve(refine=k, **params)[2]["ridge_height_error"] for k in range(3)]
     rates = observed_rates(errors)
+    print(f"ridge-height errors {errors}, observed rates {rates}")
     assert np.all(rates > 1.8), (errors, rates)
     assert abs(errors[-1]) < 3e-5
 
