@@ -179,3 +179,22 @@ def test_two_ranks_equal_serial(tmp_path):
     last1 = np.array(rows1[-1].split(","), dtype=float)
     last2 = np.array(rows2[-1].split(","), dtype=float)
     assert last2 == pytest.approx(last1, rel=1e-7, abs=1e-9)
+
+
+@pytest.mark.convergence
+@pytest.mark.serial
+def test_p_max_converges_at_stiffness_ratio_1(tmp_path):
+    """Halving every element size (contact size 0.04, 0.02, 0.01 R0) at the default ratio 1:
+    P_max's changes shrink by more than 2 per halving (observed order > 1; the contact line's
+    ridge keeps it below 2), and its Richardson extrapolation is within 1e-3 of the finest."""
+    found = []
+    for refine in range(3):
+        summary, _ = run(tmp_path, f"refine{refine}", "blister-soft", "--v-max", "1.3", "--size-contact", "0.04",
+                         "--growth", "1.5", "--refine", refine, "--quiet")
+        found.append(p_max(summary)["P"])
+    d1, d2 = found[0] - found[1], found[1] - found[2]
+    order = math.log2(d1 / d2)
+    richardson = found[2] - d2 / (d1 / d2 - 1)
+    print(f"P_max {found}, observed order {order:.3f}, Richardson {richardson:.6f}")
+    assert 1.0 < order < 2.5, (found, order)
+    assert abs(found[2] / richardson - 1) < 1e-3
