@@ -198,3 +198,24 @@ def test_p_max_converges_at_stiffness_ratio_1(tmp_path):
     print(f"P_max {found}, observed order {order:.3f}, Richardson {richardson:.6f}")
     assert 1.0 < order < 2.5, (found, order)
     assert abs(found[2] / richardson - 1) < 1e-3
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+def test_gent_membrane_tends_to_neo_hookean_and_locks(tmp_path):
+    """A Gent membrane with Jm = 1000 has the neo-Hookean P_max to O(1/Jm); with Jm = 2 the
+    membrane locks: P rises monotonically (no limit point) and ends above the neo-Hookean P."""
+    mesh = ("--size-contact", "0.04", "--growth", "1.5", "--v-max", "3", "--quiet")
+    found = {}
+    for name, material in {"nh": ("--material", "neo-hookean"), "gent1000": ("--material", "gent", "--Jm", "1000"),
+                           "gent2": ("--material", "gent", "--Jm", "2")}.items():
+        summary, out = run(tmp_path, name, "blister-soft", *material, *mesh)
+        rows = (out / "branch.csv").read_text().splitlines()
+        column = rows[0].split(",").index("P")
+        found[name] = (summary, np.array([float(r.split(",")[column]) for r in rows[1:]]))
+    nh, gent = p_max(found["nh"][0]), p_max(found["gent1000"][0])
+    assert gent["P"] == pytest.approx(nh["P"], rel=2e-3) and gent["P"] > nh["P"]
+    locked, P = found["gent2"]
+    assert not locked["limit_points"]
+    assert np.all(np.diff(P) > 0)
+    assert P[-1] > found["nh"][1][-1]
