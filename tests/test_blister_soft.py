@@ -219,3 +219,33 @@ def test_gent_membrane_tends_to_neo_hookean_and_locks(tmp_path):
     assert not locked["limit_points"]
     assert np.all(np.diff(P) > 0)
     assert P[-1] > found["nh"][1][-1]
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+@pytest.mark.parametrize("tensions", [(1.0, 1.0, 1.0), (1.0, 0.8, 0.5)])
+def test_membrane_free_limit_gives_neumanns_triangle(tmp_path, tensions):
+    """gamma/(mu_f t0) = 50 with gamma/(mu_s R0) = 1: the membrane's tension is a few per cent
+    of the interface energies, and the contact line's three angles (between the tangents the
+    energy sees, :class:`ContactLine`) are Neumann's triangle of (gamma_l, gamma_ls, dgamma)
+    to a few degrees, the membrane's own tension and the bulk's discrete share being the rest
+    (equal tensions: 0.9 and 1.4 degrees on refine 0 and 1; (1, 0.8, 0.5): 3.4 and 2.2). They are
+    natural conditions: nothing imposes them."""
+    from bcfem.scenes.droplet_soft.model import neumann_angles
+
+    alpha, gamma_ls, dgamma = (50 * g for g in tensions)
+    # the droplet's wedges: solid between wet and dry solid, liquid, vapour (the membrane side)
+    neumann = neumann_angles(gamma_s=dgamma, gamma_l=alpha, gamma_ls=gamma_ls)
+    misses = []
+    for refine in (0, 1):
+        summary, out = run(tmp_path, f"refine{refine}", "blister-soft", "--alpha", alpha, "--gamma-ls", gamma_ls,
+                           "--delta-gamma", dgamma, "--stiffness-ratio", 50, "--v-start", 0.45, "--v-max", 0.5,
+                           "--refine", refine, "--quiet")
+        lines = (out / "branch.csv").read_text().splitlines()
+        header, last = lines[0], lines[-1]
+        row = dict(zip(header.split(","), map(float, last.split(","))))
+        found = {"liquid": row["liquid_angle_deg"], "solid": row["substrate_angle_deg"],
+                 "vapour": row["membrane_angle_deg"]}
+        print(f"refine {refine}: {found} against Neumann {neumann}")
+        misses.append(max(abs(found[k] - neumann[k]) for k in neumann))
+    assert max(misses) < 3.5 and misses[1] < 2.5, misses

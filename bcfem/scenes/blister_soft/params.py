@@ -35,8 +35,11 @@ Units and normalisations (all inputs and outputs are dimensionless):
   alpha, gamma-ls, delta-gamma = gamma_l, gamma_ls, dgamma over mu_f t0
   V/V0             with V0 = 4/3 pi R0^3
   aspect           = z_f(0) / r0 (apex height over the current contact radius)
-  contact angle    = angle between the membrane and the bonded substrate surface
-                     at the contact line, degrees (the rigid scene's on a flat one)
+  contact angle    = angle between the free membrane and the substrate's undeformed
+                     plane at the contact line, degrees (the rigid scene's angle)
+  liquid/substrate/membrane angle
+                   = the wedges at the contact line between the tangents the energy
+                     sees (the line force of a unit tension on each surface), degrees
   indentation      = -z_s(0) / R0;  r1_over_R0 = r0 / R0
   energy           = (Pi - gamma_ls pi R0^2 - dgamma pi (L^2 - 1) R0^2)/(pi R0^2 mu_f t0)
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/indentation.png,
