@@ -26,7 +26,7 @@ test-all: venv
 	$(PYTEST) -m "" --durations=20 tests
 	$(MPI_PYTEST) -m "mpi" tests
 
-DEMOS := $(basename $(notdir $(wildcard demos/*.py)))
+DEMOS := $(filter-out _%,$(basename $(notdir $(wildcard demos/*.py))))
 
 # error against run time: docs/benchmarks/<scene>.{csv,md,png}
 bench: venv

@@ -167,7 +167,9 @@ def run(points, solve_point, out: Path, comm, retry_failed: bool = False) -> lis
         shutil.rmtree(claims)
         for values, params in points:
             rows.append(json.loads((point_dir / f"{point_key(values, params)}.json").read_text()))
-        columns = sorted({k for r in rows for k in r} - RECORD_ONLY, key=lambda k: (k in ("status", "reason"), k))
+        # a point's nested records (dicts) stay in its JSON file, out of the CSV
+        columns = sorted({k for r in rows for k, v in r.items() if not isinstance(v, dict)} - RECORD_ONLY,
+                         key=lambda k: (k in ("status", "reason"), k))
         io.write_csv(out / "sweep.csv", rows, comm, columns)
         if total_done:  # a rerun that solved nothing keeps the timing of the run that did
             wall = time.perf_counter() - t0

@@ -61,7 +61,6 @@
 # repeats the fit on twice the cells for its uncertainty.
 
 # %%
-import argparse
 import contextlib
 import hashlib
 import json
@@ -93,7 +92,7 @@ MATERIALS = {  # name -> material fields and v_max (V/V0) of a map point
 LABELS = {"gent-Jm100": r"Gent $J_m = 100$", "neo-hookean": "neo-Hookean"}
 ALPHA_RANGE = (0.0, 10.0)  # gamma_l/(mu t0), ordinate
 ADHESION_RANGE = (-10.0, 20.0)  # (gamma_ls - dgamma)/(mu t0), abscissa
-GRID = {"default": (6, 6), "fine": (21, 31)}  # (alpha, adhesion) points; the default grid is in the fine one
+GRID = {"default": (6, 6), "full": (21, 31)}  # (alpha, adhesion) points; the default grid is in the full one
 CELLS = 80  # P2 cells across the blister (the fit repeats on 160)
 DEGREE = 2
 # ds_max = 0.1 (the scene default) fails at a few points with small adhesion: the state right after
@@ -110,11 +109,13 @@ FIT_TOL = 1e-6  # the fitted parameters reproduce the targets, relative
 YOUNG_TOL = 1e-2  # (1 - cos theta) alpha/(alpha + adhesion) - 1 near the border (membrane correction)
 
 comm = MPI.COMM_WORLD
-args, report = demo.setup("blister_maps", "Dissertation Figures 3.15-3.17: maps after delamination onset", comm)
-extra = argparse.ArgumentParser(add_help=False)
-extra.add_argument("--fine", action="store_true", help="the publication grid (21 x 31 points per material)")
-fine = extra.parse_known_args()[0].fine
-n_alpha, n_adhesion = GRID["fine" if fine else "default"]
+args, report = demo.setup("blister_maps", "Dissertation Figures 3.15-3.17: maps after delamination onset", comm,
+                          full="{} x {} (alpha, adhesion) points per material instead of {} x {}".format(
+                              *GRID["full"], *GRID["default"]),
+                          refine=f"{2 * CELLS} P{DEGREE} cells across the blister instead of {CELLS}")
+CELLS *= 2 if args.refine else 1
+full = args.full
+n_alpha, n_adhesion = GRID["full" if full else "default"]
 ALPHAS = np.linspace(*ALPHA_RANGE, n_alpha)
 ADHESIONS = np.linspace(*ADHESION_RANGE, n_adhesion)
 
@@ -150,7 +151,7 @@ def sweep_dir(kind: str, base) -> object:
 # One `sweep.run` per material over the points right of the border
 # ($(\gamma_{ls}-\Delta\gamma)/\mu t_0 > -\alpha$). Points are spread over the
 # ranks, each solved on its own communicator, and written as they finish, so a
-# rerun (or `--fine` after the default grid) reuses them.
+# rerun (or `--full` after the default grid) reuses them.
 
 # %%
 def after_onset_retried(params, comm) -> dict:
@@ -360,79 +361,13 @@ LEVELS = {  # the same for both materials; V/V1 spans 0 ... v_max, so its levels
 XLABEL, YLABEL = r"$(\gamma_{ls}-\Delta\gamma)/(\mu t_0)$", r"$\gamma_l/(\mu t_0)$"
 
 
-def decorate(ax, name):
-    ax.plot([0.0, -ALPHA_RANGE[1]], [0.0, ALPHA_RANGE[1]], "-", color="k", lw=1.2)
-    ax.fill_between([ADHESION_RANGE[0], 0.0], [ALPHA_RANGE[0]] * 2, [-ADHESION_RANGE[0], 0.0], color="0.93", zorder=0)
-    ax.text(ADHESION_RANGE[0] + 0.6, 0.25 * ALPHA_RANGE[1], "no blister:\nspreads at\n" r"$V \to 0$",
-            fontsize=7, color="0.35")
-    if name == "neo-hookean":
-        alphas = [r["alpha"] for r in never]
-        ax.fill_betweenx(alphas, [r["g_sup"] for r in never], ADHESION_RANGE[1] + 1, facecolor="white",
-                         edgecolor="0.45", hatch="///", lw=0.0, zorder=2)
-        ax.plot([r["g_sup"] for r in never], alphas, "-", color="0.2", lw=1.2, zorder=3)
-        ax.plot([r["g_limit"] for r in never], alphas, ":", color="0.2", lw=1.2, zorder=3)
-        ax.text(0.97 * ADHESION_RANGE[1], 0.5 * ALPHA_RANGE[1], "never\ndelaminates",
-                ha="right", fontsize=8, zorder=6, bbox=dict(fc="white", ec="none", pad=1.5))
-        if not fine:  # the grid points; on the fine grid they would hide the maps
-            x = [r["adhesion"] for r in ok_points[name] if not r["onset"]]
-            y = [r["alpha"] for r in ok_points[name] if not r["onset"]]
-            ax.plot(x, y, "x", color="0.3", ms=4, zorder=4)
-    if not fine:
-        done = [r for r in ok_points[name] if r["onset"]]
-        ax.plot([r["adhesion"] for r in done], [r["alpha"] for r in done], ".", color="0.5", ms=2.5, zorder=4)
-    ax.set_xlim(*ADHESION_RANGE)
-    ax.set_ylim(*ALPHA_RANGE)
-    ax.set_xlabel(XLABEL)
-    ax.set_ylabel(YLABEL)
-
-
 if comm.rank == 0:
-    from matplotlib.colors import BoundaryNorm
+    from _figures_blister_maps import draw
 
-    from bcfem.plots import pyplot
-
-    plt = pyplot()
-    files = {"gent-Jm100": "maps_gent.png", "neo-hookean": "maps_neo_hookean.png"}
-    for name, figure in files.items():
-        fig, axes = plt.subplots(2, 2, figsize=(10.5, 7.6))
-        for ax, (key, label), tag in zip(axes.flat, PANELS, "abcd"):
-            tri, z = triangulation(name, key)
-            # V/V1 is interpolated in log(1 + V/V1): it grows steeply towards the neo-Hookean boundary
-            f = np.log1p if key == "V_over_V1" else (lambda v: np.asarray(v, dtype=float))
-            levels = f(LEVELS[key])
-            norm = BoundaryNorm(levels, plt.get_cmap("viridis").N)
-            cs = ax.tricontourf(tri, f(z), levels=levels, cmap="viridis", norm=norm, zorder=1, extend="max")
-            ax.tricontour(tri, f(z), levels=levels, colors="k", linewidths=0.3, zorder=1)
-            bar = fig.colorbar(cs, ax=ax, label=label, spacing="uniform")
-            bar.set_ticks(levels[::2], labels=[f"{v:g}" for v in LEVELS[key][::2]])
-            decorate(ax, name)
-            ax.text(0.97, 0.04, f"({tag})", transform=ax.transAxes, ha="right", fontweight="bold", zorder=5)
-        fig.suptitle(f"After delamination onset (self-similar growth), {LABELS[name]}: "
-                     f"{n_alpha}x{n_adhesion} grid, v_max = {MATERIALS[name]['v_max']:g} V0 "
-                     f"(dissertation Fig. 3.{15 if name == 'gent-Jm100' else 16})", fontsize=10)
-        fig.tight_layout()
-        io.save_figure(fig, args.out / figure, comm)
-        plt.close(fig)
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for key, level, color in (("aspect1", FIT_TARGET["aspect"], "C0"), ("P1", FIT_TARGET["P1"], "C3")):
-        tri, z = triangulation("gent-Jm100", key)
-        ax.tricontour(tri, z, levels=[level], colors=color, linewidths=1.6, zorder=3)
-        ax.plot([], [], "-", color=color, label=(r"$z(0)/R_1 = $" if key == "aspect1" else r"$\Delta p R_1/\mu t_0 = $")
-                + f"{level:g} (maps)")
-    decorate(ax, "gent-Jm100")
-    ax.plot(fit["adhesion"], fit["alpha"], "o", ms=7, mfc="white", mec="k", mew=1.5, zorder=5,
-            label=f"fit: ({fit['alpha']:.3f}, {fit['adhesion']:.3f})")
-    ax.plot(DISSERTATION_FIT["adhesion"], DISSERTATION_FIT["alpha"], "s", ms=6, mfc="none", mec="C2", mew=1.5,
-            zorder=5, label="dissertation's reading (5.1, 15.9)")
-    ax.legend(fontsize=7.5, loc="upper right", framealpha=0.95)
-    ax.set_title(r"Inverse fit, Gent $J_m = 100$: $z(0)/R_1 = 2$ and $\Delta p R_1/(\mu t_0) = 10$ "
-                 "(dissertation Fig. 3.17)", fontsize=9)
-    fig.tight_layout()
-    io.save_figure(fig, args.out / "fit.png", comm)
-    plt.close(fig)
-    report(f"wrote {args.out / 'maps.csv'}, {args.out / 'never.csv'}, {args.out / 'summary.json'}, "
-           f"{', '.join(str(args.out / f) for f in files.values())}, {args.out / 'fit.png'}")
+    draw(ADHESION_RANGE=ADHESION_RANGE, ALPHA_RANGE=ALPHA_RANGE, DISSERTATION_FIT=DISSERTATION_FIT,
+         FIT_TARGET=FIT_TARGET, LABELS=LABELS, LEVELS=LEVELS, MATERIALS=MATERIALS, PANELS=PANELS, XLABEL=XLABEL,
+         YLABEL=YLABEL, args=args, comm=comm, fit=fit, full=full, n_adhesion=n_adhesion, n_alpha=n_alpha,
+         never=never, ok_points=ok_points, report=report, triangulation=triangulation)
 
 # %% [markdown]
 # ## Assert

@@ -60,12 +60,11 @@
 # rerun, or `--full` after the default grid, reuses them.
 
 # %%
-import argparse
 import hashlib
 import json
 import math
 import time
-from dataclasses import asdict
+from dataclasses import asdict, replace
 
 from mpi4py import MPI
 
@@ -99,10 +98,13 @@ ESHELBY_TOL = 0.03  # |F~/F~_7.12 - 1| of the large specimen at the smallest pre
 BOYLE_TOL = 1e-8  # p2 V2 / V1 - 1 at the end of stage 2
 
 comm = MPI.COMM_WORLD
-args, report = demo.setup("crater_air", "Dissertation Figures 7.5b, 7.6, 7.7a: the air crater's suction cycle", comm)
-extra = argparse.ArgumentParser(add_help=False)
-extra.add_argument("--full", action="store_true", help="the figure's grid eps = 0.025:0.5:0.025 (20 solves)")
-full = extra.parse_known_args()[0].full
+args, report = demo.setup("crater_air", "Dissertation Figures 7.5b, 7.6, 7.7a: the air crater's suction cycle", comm,
+                          full="the preloads eps = 0.025:0.5:0.025 (20 cycles) instead of "
+                               + ", ".join(f"{e:g}" for e in GRID["default"]),
+                          refine="half the crater's element size (size_crater)")
+full = args.full
+if args.refine:
+    BASE = replace(BASE, size_crater=BASE.size_crater / 2)
 PRELOADS = GRID["full" if full else "default"]
 SHAPE_PRELOAD = SHAPE_PRELOADS["full" if full else "default"]
 
@@ -184,14 +186,10 @@ def first_loading_instability(r):
 
 
 loading_instability = [d for d in map(first_loading_instability, ok) if d is not None]
-zero_force_missed = []  # the scene now lifts the platen past eps = 0 or fails the point
 report(f"closure (V1 = 0): eps in ({closure.get('bracket', ['-', '-'])[0]}, {closure['first_closed']}]; "
        "first unstable axisymmetric mode on loading, per cycle (preload: step before, step): "
        + ", ".join(f"{d['preload']:g}: ({d['step_before']:.3f}, {d['eps']:.3f}]" for d in loading_instability)
        + f"; dissertation: closure {DISSERTATION['eps_closure']}, eps_c {DISSERTATION['eps_c']} (non-axisymmetric)")
-if zero_force_missed:
-    report(f"zero platen force not reached by eps = 0 (stage 2 ends at eps = 0, still compressed): "
-           f"preloads {zero_force_missed}")
 
 # %% [markdown]
 # ## One cycle's deformed shapes (Fig. 7.5b)
@@ -246,11 +244,9 @@ io.write_json(args.out / "summary.json", {
     "failed": failed,
     "dissertation": DISSERTATION,
     "ours": {"closure": closure, "first_loading_instability": loading_instability,
-             "zero_force_not_reached": zero_force_missed,
              "note": "closure: over all points' loading steps, the last with V/V0 > 1e-8 and the first with "
                      "V/V0 <= 1e-8; first_loading_instability: per cycle, the first loading step after which "
-                     "the tangent had an unstable axisymmetric mode, and the step before; "
-                     "zero_force_not_reached: stage 2 ended at eps = 0 with the platen still compressed"},
+                     "the tangent had an unstable axisymmetric mode, and the step before"},
     "eshelby_eq_7_12": [{"preload": r["preload"], "F_tilde": r["F_tilde"], "linear": eshelby(r["preload"], BASE.beta),
                          "ratio": r["F_tilde"] / eshelby(r["preload"], BASE.beta)} for r in ok],
     "large_specimen": {"parameters": asdict(LARGE), "points": [
@@ -283,134 +279,13 @@ EVENT_STYLE = {"stability": dict(marker="o", ms=11, mfc="none", mec="C1", mew=1.
                "snap": dict(marker="x", ms=9, color="C3", mew=1.6, ls="none")}
 
 
-def marks(ax, key_of, with_labels):
-    def label(text):
-        return text if with_labels else None
-
-    for kind, style in EVENT_STYLE.items():
-        hit = [r for r in ok if any(e["kind"] == kind for e in r["events"])]
-        ax.plot([r["preload"] for r in hit], [key_of(r) for r in hit], **style,
-                label=label(f"cycle reported {'an instability' if kind == 'stability' else 'a snap'}"))
-    missed = [r for r in ok if r["preload"] in zero_force_missed]
-    if missed:
-        ax.plot([r["preload"] for r in missed], [key_of(r) for r in missed], "D", ms=10, mfc="none", mec="0.45",
-                mew=1.4, label=label(r"zero force not reached by $\varepsilon = 0$"))
-    if loading_instability:
-        ax.plot([d["eps"] for d in loading_instability], [0.015] * len(loading_instability), "^", color="C1", ms=6,
-                transform=ax.get_xaxis_transform(), clip_on=False,
-                label=label("first unstable mode on loading (one per cycle)"))
-    if "bracket" in closure:
-        ax.axvspan(*closure["bracket"], color="C2", alpha=0.25, lw=0)
-        ax.axvline(closure["first_closed"], color="C2", ls=":", lw=1.5,
-                   label=label(f"ours: closure, first $V_1 = 0$ at $\\varepsilon$ = {closure['first_closed']:.3f}"))
-    ax.axvline(DISSERTATION["eps_c"], color="0.3", ls="--", lw=1,
-               label=label(f"dissertation: $\\varepsilon_c$ = {DISSERTATION['eps_c']} (non-axisymmetric)"))
-    ax.axvline(DISSERTATION["eps_closure"], color="0.6", ls="--", lw=1,
-               label=label(f"dissertation: closure at $\\varepsilon$ = {DISSERTATION['eps_closure']}"))
-    ax.set_xlim(0, 0.5)
-    ax.set_xlabel(r"preload $\varepsilon = -\Delta L/L$")
-    ax.grid(alpha=0.3)
-
-
 if comm.rank == 0:
-    from bcfem.plots import pyplot
+    from _figures_crater_air import draw
 
-    plt = pyplot()
-    eps = [r["preload"] for r in ok]
-    left_out = ", ".join(f"{f['preload']:g}" for f in failed)
-    grid_note = f"{len(ok)} preloads" + (f"; failed, left out: {left_out}" if failed else "")
-
-    # Fig. 7.6
-    PANELS = [(lambda r: 1 - r["V2_over_V0"], r"$(V_0 - V_2)/V_0$"),
-              (lambda r: 1 - r["p2_over_pa"], r"$-\Delta p/p_a = 1 - p_2/p_a$"),
-              (lambda r: r["A2_over_A0"], r"$A_2/A_0$"),
-              (lambda r: r["F_tilde"], r"$\tilde F = F/(p_a A_0)$")]
-    fig, axes = plt.subplots(2, 2, figsize=(10.5, 8.0))
-    for ax, (key_of, ylabel), tag in zip(axes.flat, PANELS, "abcd"):
-        ax.plot(eps, [key_of(r) for r in ok], "-s", color="C0", ms=4, label="this model (axisymmetric FE)")
-        marks(ax, key_of, with_labels=tag == "a")
-        ax.set_ylabel(ylabel)
-        ax.set_ylim(0, 1.05 * max(1e-3, max(key_of(r) for r in ok)))
-        ax.text(0.97, 0.06, f"({tag})", transform=ax.transAxes, ha="right", fontweight="bold")
-    axes[0, 1].set_ylim(0, 1.05)
-    axes[0, 1].axhline(DISSERTATION["dp_c_over_pa"], color="0.3", ls="--", lw=1)
-    axes[0, 1].text(0.02, DISSERTATION["dp_c_over_pa"] + 0.015, r"$-\Delta p_c = 0.83\,p_a$ (dissertation)",
-                    fontsize=8, color="0.3")
-    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=8, frameon=False)
-    fig.suptitle(f"Air crater (hemisphere, a = {BASE.crater_radius} mm, $\\mu/p_a$ = {BASE.beta:.3f}): end of the "
-                 f"suction cycle against the preload\n({grid_note}; dissertation Fig. 7.6)", fontsize=10)
-    fig.tight_layout(rect=(0, 0.09, 1, 1))
-    io.save_figure(fig, args.out / "fig7_6.png", comm)
-    plt.close(fig)
-
-    # Fig. 7.7a, and beside it the ratio to eq. 7.12
-    fig, (ax, ratio) = plt.subplots(1, 2, figsize=(11.5, 5.0), gridspec_kw={"width_ratios": [1.25, 1]})
-    fine = np.linspace(0, 0.5, 201)
-    ax.plot(fine, [eshelby(e, BASE.beta) for e in fine], "k--", lw=1.3, label="linear (Eshelby), eq. 7.12")
-    ax.plot(eps, [r["F_tilde"] for r in ok], "-s", color="C0", ms=4, label="simulation (this model)")
-    marks(ax, lambda r: r["F_tilde"], with_labels=True)
-    ax.set_ylim(0, 1.05 * max(r["F_tilde"] for r in ok))
-    ax.set_ylabel(r"$\tilde F = F/(p_a A_0)$")
-    ax.legend(fontsize=7, loc="upper left", framealpha=0.95)
-    ax.set_title(f"(a) suction force against preload (dissertation Fig. 7.7a); {grid_note}", fontsize=9)
-    done_large = [r for r in large if r["status"] == "ok"]
-    ratio.axhline(1.0, color="k", ls="--", lw=1.3, label="eq. 7.12")
-    ratio.plot(eps, [r["F_tilde"] / eshelby(r["preload"], BASE.beta) for r in ok], "-s", color="C0", ms=4,
-               label=f"experiment's specimen ({BASE.specimen_radius} x {BASE.specimen_height} mm, "
-                     f"$\\gamma/\\mu a$ = {BASE.surface_energy:g})")
-    ratio.plot([r["preload"] for r in done_large],
-               [r["F_tilde"] / eshelby(r["preload"], LARGE.beta) for r in done_large],
-               "o", mfc="none", mec="k", ms=7, mew=1.3,
-               label=f"large specimen ({LARGE.specimen_radius} x {LARGE.specimen_height} mm, $\\gamma$ = 0)")
-    SMALL = 0.2  # the panel's range of preloads
-    shown = [r["F_tilde"] / eshelby(r["preload"], BASE.beta) for r in ok if r["preload"] <= SMALL] + \
-        [r["F_tilde"] / eshelby(r["preload"], LARGE.beta) for r in done_large] + [1.0]
-    ratio.set_xlim(0, SMALL)
-    ratio.set_ylim(min(shown) - 0.05, max(shown) + 0.05)
-    ratio.set_xlabel(r"preload $\varepsilon = -\Delta L/L$")
-    ratio.set_ylabel(r"$\tilde F / \tilde F_{7.12}$")
-    ratio.grid(alpha=0.3)
-    ratio.legend(fontsize=7, loc="upper left", framealpha=0.95)
-    ratio.set_title("(b) small preloads, ratio to eq. 7.12: the large specimen tends to it as "
-                    "$\\varepsilon \\to 0$", fontsize=9)
-    fig.suptitle(f"Air crater, hemisphere a = {BASE.crater_radius} mm, $\\mu/p_a$ = {BASE.beta:.3f}", fontsize=10)
-    fig.tight_layout()
-    io.save_figure(fig, args.out / "fig7_7a.png", comm)
-    plt.close(fig)
-
-    # Fig. 7.5b
-    loading = [s for s in shape.states if s["stage"] == "load"]
-    unloading = [s for s in shape.states if s["stage"] == "unload"]
-    targets = np.linspace(SHAPE_PRELOAD, unloading[-1]["eps"], SHAPE_PANELS_UNLOAD)
-    drawn = [[crater_frames.nearest(shape.states, "load", e) for e in SHAPE_LOAD if e <= SHAPE_PRELOAD],
-             [loading[-1]] + [crater_frames.nearest(shape.states, "unload", e) for e in targets[1:-1]]
-             + [unloading[-1]]]
-    ncol = max(len(r) for r in drawn)
-    fig, axes = plt.subplots(2, ncol, figsize=(3.0 * ncol, 6.8), sharex=True, sharey=True)
-    for i, (states, name) in enumerate(zip(drawn, ("loading, vent open", "unloading, sealed"))):
-        for j, s in enumerate(states):
-            ax = axes[i, j]
-            text = f"$\\varepsilon$ = {s['eps']:.3f}\n$V/V_0$ = {s['V_over_V0']:.3f}"
-            if i == 1:
-                text += f"\n$p/p_a$ = {s['p_over_pa']:.3f}"
-            if i == 1 and j == len(states) - 1:
-                text += f"\nzero force: $\\tilde F$ = {s['F_tilde']:.3f}"
-            crater_frames.draw(ax, shape, s, extent=10.0, text=text)
-            ax.set_xticks([0, 5, 10])
-            if j == 0:
-                ax.set_ylabel(f"{name}\nz [mm]")
-            if i == 1:
-                ax.set_xlabel("r [mm]")
-        for ax in axes[i, len(states):]:
-            ax.set_visible(False)
-    fig.suptitle(f"Deformed cross-section near the crater, one cycle at preload $\\varepsilon$ = {SHAPE_PRELOAD} "
-                 f"(dissertation Fig. 7.5b; a = {BASE.crater_radius} mm)\nblue: crater wall, dotted: wall at rest, "
-                 "black: the plate; grey: the specimen's mesh (P1 interpolation of the P2 displacement)", fontsize=10)
-    fig.tight_layout()
-    io.save_figure(fig, args.out / "fig7_5b.png", comm)
-    plt.close(fig)
-    report("wrote " + ", ".join(str(args.out / f) for f in
-                                ("fig7_6.png", "fig7_7a.png", "fig7_5b.png", "crater_air.csv", "summary.json")))
+    draw(BASE=BASE, DISSERTATION=DISSERTATION, EVENT_STYLE=EVENT_STYLE, LARGE=LARGE, SHAPE_LOAD=SHAPE_LOAD,
+         SHAPE_PANELS_UNLOAD=SHAPE_PANELS_UNLOAD, SHAPE_PRELOAD=SHAPE_PRELOAD, args=args, closure=closure,
+         comm=comm, failed=failed, large=large, loading_instability=loading_instability, ok=ok, report=report,
+         shape=shape)
 
 # %% [markdown]
 # ## Table
@@ -420,7 +295,7 @@ report(f"{'eps':>6s} {'F~':>8s} {'V1/V0':>8s} {'V2/V0':>8s} {'p2/pa':>8s} {'A2/A
 for r in ok:
     report(f"{r['preload']:6.3f} {r['F_tilde']:8.4f} {r['V1_over_V0']:8.4f} {r['V2_over_V0']:8.4f} "
            f"{r['p2_over_pa']:8.4f} {r['A2_over_A0']:8.4f} {r['F_tilde'] / eshelby(r['preload'], BASE.beta):8.4f}  "
-           f"{describe(r['events'])}" + ("  [zero force not reached]" if r["preload"] in zero_force_missed else ""))
+           f"{describe(r['events'])}")
 
 # %% [markdown]
 # ## Assert
@@ -467,7 +342,7 @@ for r in ok:
         assert abs(r["fluid_law_residual"]) < BOYLE_TOL, r
         assert r["V1_over_V0"] < r["V2_over_V0"] < 1.0 and 0.0 < r["p2_over_pa"] < 1.0, r
 
-monotone = [r for r in ok if r["V1_over_V0"] > CLOSED and r["preload"] not in zero_force_missed]
+monotone = [r for r in ok if r["V1_over_V0"] > CLOSED]
 assert len(monotone) >= 2, monotone
 for key_of, name in ((lambda r: r["F_tilde"], "F~"), (lambda r: 1 - r["V2_over_V0"], "(V0 - V2)/V0"),
                      (lambda r: 1 - r["p2_over_pa"], "-dp/pa")):

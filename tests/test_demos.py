@@ -6,10 +6,11 @@ also checks that the expected files are there, that nothing temporary is left
 behind and that only rank 0 printed.
 
 Marked ``serial``: pytest itself must not run under mpirun, since it launches
-mpirun. The mpirun variant is part of the default run (each demo takes well
-under a minute on two ranks).
+mpirun. The runs are ``slow`` and ``demo`` (``make test-all``); the command-line
+contract is checked in the fast tier.
 """
 
+import ast
 import os
 import subprocess
 import sys
@@ -17,10 +18,10 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = [pytest.mark.serial, pytest.mark.slow, pytest.mark.demo]
+pytestmark = pytest.mark.serial
 
 BIN = Path(sys.executable).parent
-DEMOS = sorted((Path(__file__).resolve().parents[1] / "demos").glob("*.py"))
+DEMOS = sorted(p for p in (Path(__file__).resolve().parents[1] / "demos").glob("*.py") if not p.name.startswith("_"))
 # files each demo must write into --out (any other demo must write a PNG and a CSV)
 EXPECTED = {
     "blister_theories.py": ["theories.png", "curves.csv", "summary.json"],
@@ -62,13 +63,41 @@ def test_demos_found():
     assert not missing, f"EXPECTED names demos that do not exist: {sorted(missing)}"
 
 
+def test_every_demo_takes_the_common_flags():
+    """Each demo parses its command line with ``bcfem.demo.setup`` alone (no flags of its own),
+    whose parser has --out, --quiet, --full and --refine."""
+    from bcfem import demo
+
+    options = {a for action in demo.parser("x", "x", "f", "r")._actions for a in action.option_strings}
+    assert set(demo.FLAGS) <= options
+    for path in DEMOS:
+        tree = ast.parse(path.read_text())
+        calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute)]
+        assert any(c.func.attr == "setup" and getattr(c.func.value, "id", "") == "demo" for c in calls), path.name
+        imported = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+        assert "argparse" not in imported, f"{path.name} parses flags of its own"
+
+
+def test_a_demo_help_lists_the_flags():
+    demo = next(d for d in DEMOS if d.stem == "blister_theories")
+    res = subprocess.run([sys.executable, str(demo), "--help"], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    for flag in ("--out", "--quiet", "--full", "--refine"):
+        assert flag in res.stdout
+    assert "cells across R0" in res.stdout  # its --refine says what it refines
+
+
 @pytest.mark.parametrize("demo", DEMOS, ids=lambda p: p.stem)
+@pytest.mark.slow
+@pytest.mark.demo
 def test_demo_serial(demo, tmp_path):
     out = tmp_path / "out"
     check_outputs(demo, out, run_demo(demo, out, ranks=1))
 
 
 @pytest.mark.parametrize("demo", DEMOS, ids=lambda p: p.stem)
+@pytest.mark.slow
+@pytest.mark.demo
 def test_demo_mpi(demo, tmp_path):
     out = tmp_path / "out"
     res = run_demo(demo, out, ranks=2)

@@ -55,13 +55,29 @@ class Recorder(Crater):
 @dataclass
 class Frames:
     """What :func:`draw` needs of a recorded cycle (the mesh's vertices and triangles, the
-    layer's cells, the wall at rest, the states), without the mesh: it can be pickled."""
+    layer's cells, the wall at rest, the states), without the mesh: plain arrays, kept as JSON
+    (:meth:`to_json`, :meth:`from_json`)."""
 
     vertices: np.ndarray
     triangles: np.ndarray
     in_layer: np.ndarray
     wall_X: np.ndarray
     states: list[dict]
+
+    def to_json(self) -> dict:
+        def plain(value):
+            return value.tolist() if isinstance(value, np.ndarray) else value
+
+        return {"vertices": self.vertices.tolist(), "triangles": self.triangles.tolist(),
+                "in_layer": self.in_layer.tolist(), "wall_X": self.wall_X.tolist(),
+                "states": [{k: plain(v) for k, v in s.items()} for s in self.states]}
+
+    @classmethod
+    def from_json(cls, data: dict) -> Frames:
+        arrays = ("u1", "wall")
+        return cls(np.array(data["vertices"]), np.array(data["triangles"], dtype=np.int32),
+                   np.array(data["in_layer"], dtype=bool), np.array(data["wall_X"]),
+                   [{k: np.array(v) if k in arrays else v for k, v in s.items()} for s in data["states"]])
 
 
 def record(params: crater.Params) -> tuple[dict, Frames]:
@@ -75,6 +91,13 @@ def record(params: crater.Params) -> tuple[dict, Frames]:
     _, summary = crater.solve(params, MPI.COMM_SELF, model_class=model)
     rec = made[-1]  # a retraced cycle's second model
     return summary, Frames(rec.vertices, rec.triangles, rec.in_layer, rec.wall_X, rec.states)
+
+
+def record_point(params: crater.Params, comm) -> dict:
+    """One recorded cycle as a point of :func:`bcfem.sweep.run` (``comm``: the point's own
+    one-rank communicator): its summary and its frames."""
+    summary, frames = record(params)
+    return {"summary": summary, "frames": frames.to_json()}
 
 
 def nearest(states: list[dict], stage: str, eps: float) -> dict:
