@@ -15,7 +15,7 @@ Usage (from the repository root)::
     .venv/bin/python benchmarks/blister_soft.py            # ~10 min on 2 cores
 
 Writes ``docs/benchmarks/blister-soft.{csv,md,png}`` and the branches of the family in
-``docs/figures/blister_soft/`` (``fig4_5.csv``, ``fig4_5.png``, ``fig4_7.png``).
+``docs/figures/blister_soft/`` (``fig4_5.csv``, ``fig4_5.png``, ``fig4_6.png``, ``fig4_7.png``).
 """
 
 from __future__ import annotations
@@ -34,6 +34,8 @@ FIGURES = ROOT / "docs" / "figures" / "blister_soft"
 RATIOS = [1.0, 2.0, 5.0, 10.0]
 FAMILY_VMAX = 3.5
 STUDY_SIZE = 0.02  # the study's coarsest size at the contact line [R0]
+FRAME_VOLUMES = (0.5, 1.2, 2.0, 3.0, 3.5)  # Fig. 4.6: the first accepted point past each
+FRAME_EXTENT = 3.0  # the substrate's top drawn to R = 3 R0
 STUDY_VMAX = 1.5
 COMMAND = ".venv/bin/python benchmarks/blister_soft.py"
 
@@ -59,7 +61,8 @@ def worker(case: dict) -> dict:
                                      size_factor=case.get("L", 10.0),
                                      size_contact=case.get("size_contact", blister_soft.Params.size_contact))
         scene = blister_soft.build(params, MPI.COMM_WORLD)
-        branch = trace(scene)
+        frames = []
+        branch = trace(scene, on_accept=frame_recorder(scene, frames) if case.get("frames") else None)
         dofs = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.index_map_bs
                    for s in scene.ctx.states.values())
     lps = [{"kind": lp.kind, **{k: v for k, v in lp.values.items() if isinstance(v, float)}}
@@ -67,7 +70,33 @@ def worker(case: dict) -> dict:
     keys = ("V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0")
     rows = [{k: float(r[k]) for k in keys if k in r} for r in branch.rows]
     return {**case, "t_solve": time.perf_counter() - t1, "t_import": t1 - t0, "dofs": dofs,
-            "steps": len(branch.rows) - 1, "limit_points": lps, "rows": rows}
+            "steps": len(branch.rows) - 1, "limit_points": lps, "rows": rows,
+            **({"frames": frames} if case["scene"] == "soft" else {})}
+
+
+def frame_recorder(scene, frames: list):
+    """An on_accept that keeps the substrate's top (R <= FRAME_EXTENT) and the free membrane
+    at the first accepted point past each of FRAME_VOLUMES (Fig. 4.6)."""
+    import numpy as np
+
+    from bcfem.mpi import sample
+
+    model = scene.model
+    R_top = np.linspace(0.0, FRAME_EXTENT, 301)
+    R_free = np.linspace(0.0, 1.0, 101)
+    top = np.column_stack([R_top, 0 * R_top, 0 * R_top])
+    free = np.column_stack([R_free, 0 * R_free, 0 * R_free])
+    targets = list(FRAME_VOLUMES)
+
+    def on_accept(values):
+        if not targets or values["V_over_V0"] < targets[0]:
+            return
+        targets.pop(0)
+        u_top, u_free, w = sample(model.u, top), sample(model.u, free), sample(model.w, free)
+        frames.append({"V_over_V0": float(values["V_over_V0"]), "P": float(values["P"]),
+                       "substrate": (top[:, :2] + u_top).tolist(), "membrane": (free[:, :2] + u_free + w).tolist()})
+
+    return on_accept
 
 
 def run(case: dict, core: str = "0") -> dict:
@@ -105,7 +134,7 @@ def main() -> None:
     load = loadavg()
     # the Fig. 4.5 family, two at a time
     t0 = time.perf_counter()
-    cases = [{"scene": "soft", "ratio": k, "refine": 0, "v_max": FAMILY_VMAX} for k in RATIOS]
+    cases = [{"scene": "soft", "ratio": k, "refine": 0, "v_max": FAMILY_VMAX, "frames": k == 1.0} for k in RATIOS]
     cases.append({"scene": "rigid", "v_max": FAMILY_VMAX})
     with ThreadPoolExecutor(2) as pool:
         family = list(pool.map(lambda ic: run(ic[1], str(ic[0] % 2)), enumerate(cases)))
@@ -124,6 +153,7 @@ def main() -> None:
 
 
 def write(study, far, family, t_family, load) -> None:
+
     P = [p_max(r)["P"] for r in study]
     # the observed order from three meshes, else 4 (P2: h^(2k) for an energy-like functional)
     order = math.log2(abs(P[-3] - P[-2]) / abs(P[-2] - P[-1])) if len(P) >= 3 else 4.0
@@ -173,6 +203,7 @@ def plot(rows, family) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import numpy as np
 
     fig, ax = plt.subplots(figsize=(5, 4))
     shown = rows[:-1] if len(rows) > 2 else rows
@@ -209,6 +240,21 @@ def plot(rows, family) -> None:
     ax.set_title("Fig. 4.7: μs R0/(μf t0) = 1")
     fig.tight_layout()
     fig.savefig(FIGURES / "fig4_7.png", dpi=120)
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    for k, frame in enumerate(one["frames"]):
+        colour = plt.cm.viridis(k / max(1, len(one["frames"]) - 1))
+        for part, style in (("substrate", "-"), ("membrane", "--")):
+            xy = np.array(frame[part])
+            ax.plot(xy[:, 0], xy[:, 1], style, color=colour, lw=1.2,
+                    label=f"V/V0 = {frame['V_over_V0']:.2f}, P = {frame['P']:.2f}" if part == "membrane" else None)
+    ax.axhline(0.0, color="0.6", lw=0.6, ls=":")
+    ax.set_aspect("equal")
+    ax.set_xlabel("r/R0")
+    ax.set_ylabel("z/R0")
+    ax.legend(fontsize=7, loc="upper right")
+    ax.set_title("Fig. 4.6: μs R0/(μf t0) = 1; substrate's top (solid), free membrane (dashed)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(FIGURES / "fig4_6.png", dpi=120)
 
 
 if __name__ == "__main__":
