@@ -249,3 +249,19 @@ def test_membrane_free_limit_gives_neumanns_triangle(tmp_path, tensions):
         print(f"refine {refine}: {found} against Neumann {neumann}")
         misses.append(max(abs(found[k] - neumann[k]) for k in neumann))
     assert max(misses) < 3.5 and misses[1] < 2.5, misses
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+def test_nearly_incompressible_substrate_is_locking_free(tmp_path):
+    """kappa/mu_s = 1e4, 1e6, 1e8: every run converges with the same Newton iterations, and P_max
+    tends to the incompressible limit like mu_s/kappa (the changes shrink a hundredfold)."""
+    found = []
+    for kappa in (1e4, 1e6, 1e8):
+        summary, _ = run(tmp_path, f"kappa{kappa:g}", "blister-soft", "--kappa-ratio", kappa, "--v-max", "1.3",
+                         "--size-contact", "0.04", "--growth", "1.5", "--quiet")
+        found.append((p_max(summary)["P"], summary["newton_iterations"]))
+    (P4, n4), (P6, n6), (P8, n8) = found
+    assert n4 == n6 == n8, found
+    assert abs(P4 / P6 - 1) < 1e-5
+    assert 30 < abs(P4 - P6) / abs(P6 - P8) < 300, found
