@@ -5,8 +5,12 @@ import numpy as np
 from bcfem import io
 
 
-def draw(ADHESION, ALPHA, LABELS, MATERIALS, V_SIDE, args, branches, clamped_at, column, comm, compare, onsets, profiles, report, self_similar, with_energies) -> None:
+def draw(
+        ADHESION, ALPHA, LABELS, MATERIALS, V_SIDE, args, branches, clamped_at, column, comm,
+        compare, onsets, profiles, report, self_similar, with_energies,
+) -> None:
     """Draw and save the figures (rank 0)."""
+
     def split_at_R0(pr):
         """The profile as (delaminated, bonded) pieces, split exactly at R = R0 (linear in R)."""
         R, r, z = pr["R"], pr["r"], pr["z"]
@@ -16,7 +20,6 @@ def draw(ADHESION, ALPHA, LABELS, MATERIALS, V_SIDE, args, branches, clamped_at,
         t = (1.0 - R[k - 1]) / (R[k] - R[k - 1])
         r1, z1 = r[k - 1] + t * (r[k] - r[k - 1]), z[k - 1] + t * (z[k] - z[k - 1])
         return (np.r_[r[:k], r1], np.r_[z[:k], z1]), (np.r_[r1, r[k:]], np.r_[z1, z[k:]])
-
 
     from matplotlib.lines import Line2D
 

@@ -5,8 +5,13 @@ import numpy as np
 from bcfem import io
 
 
-def draw(ADHESION_RANGE, ALPHA_RANGE, DISSERTATION_FIT, FIT_TARGET, LABELS, LEVELS, MATERIALS, PANELS, XLABEL, YLABEL, args, comm, fit, full, n_adhesion, n_alpha, never, ok_points, report, triangulation) -> None:
+def draw(
+        ADHESION_RANGE, ALPHA_RANGE, DISSERTATION_FIT, FIT_TARGET, LABELS, LEVELS, MATERIALS,
+        PANELS, XLABEL, YLABEL, args, comm, fit, full, n_adhesion, n_alpha, never, ok_points,
+        report, triangulation,
+) -> None:
     """Draw and save the figures (rank 0)."""
+
     def decorate(ax, name):
         ax.plot([0.0, -ALPHA_RANGE[1]], [0.0, ALPHA_RANGE[1]], "-", color="k", lw=1.2)
         ax.fill_between([ADHESION_RANGE[0], 0.0], [ALPHA_RANGE[0]] * 2, [-ADHESION_RANGE[0], 0.0], color="0.93", zorder=0)
@@ -31,7 +36,6 @@ def draw(ADHESION_RANGE, ALPHA_RANGE, DISSERTATION_FIT, FIT_TARGET, LABELS, LEVE
         ax.set_ylim(*ALPHA_RANGE)
         ax.set_xlabel(XLABEL)
         ax.set_ylabel(YLABEL)
-
 
     from matplotlib.colors import BoundaryNorm
 

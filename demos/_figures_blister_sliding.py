@@ -7,7 +7,10 @@ import numpy as np
 from bcfem import io
 
 
-def draw(ALPHAS, ALPHA_WRAP, PHI_Y_DEG, PHI_Y_MAIN, V_EDGE, V_MAX, V_WRAP, args, branches, comm, plain, printed, report, wrapped, wrapped_rows) -> None:
+def draw(
+        ALPHAS, ALPHA_WRAP, PHI_Y_DEG, PHI_Y_MAIN, V_EDGE, V_MAX, V_WRAP, args, branches, comm,
+        plain, printed, report, wrapped, wrapped_rows,
+) -> None:
     """Draw and save the figures (rank 0)."""
     from matplotlib.lines import Line2D
 

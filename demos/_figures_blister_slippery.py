@@ -5,7 +5,10 @@ import numpy as np
 from bcfem import io
 
 
-def draw(ADHESION, ALPHA, F_side, JM, OUTER_RADIUS, V_MAX, V_SIDE, args, branches, comm, event, helmholtz, hoop, report, side_rows, vc) -> None:
+def draw(
+        ADHESION, ALPHA, F_side, JM, OUTER_RADIUS, V_MAX, V_SIDE, args, branches, comm, event,
+        helmholtz, hoop, report, side_rows, vc,
+) -> None:
     """Draw and save the figures (rank 0)."""
     from matplotlib.lines import Line2D
 

@@ -3,7 +3,10 @@
 from bcfem import io
 
 
-def draw(LABELS, MATERIALS, P_ZOOM, V_MAX, V_ZOOM, Z_ZOOM, args, branches, comm, p_theory, report, theories, v_theory) -> None:
+def draw(
+        LABELS, MATERIALS, P_ZOOM, V_MAX, V_ZOOM, Z_ZOOM, args, branches, comm, p_theory, report,
+        theories, v_theory,
+) -> None:
     """Draw and save the figures (rank 0)."""
     from matplotlib.patches import Rectangle
 

@@ -7,8 +7,12 @@ from bcfem.scenes.crater import frames as crater_frames
 from bcfem.theory.crater import eshelby_air as eshelby
 
 
-def draw(BASE, DISSERTATION, EVENT_STYLE, LARGE, SHAPE_LOAD, SHAPE_PANELS_UNLOAD, SHAPE_PRELOAD, args, closure, comm, failed, large, loading_instability, ok, report, shape) -> None:
+def draw(
+        BASE, DISSERTATION, EVENT_STYLE, LARGE, SHAPE_LOAD, SHAPE_PANELS_UNLOAD, SHAPE_PRELOAD,
+        args, closure, comm, failed, large, loading_instability, ok, report, shape,
+) -> None:
     """Draw and save the figures (rank 0)."""
+
     def marks(ax, key_of, with_labels):
         def label(text):
             return text if with_labels else None
@@ -32,7 +36,6 @@ def draw(BASE, DISSERTATION, EVENT_STYLE, LARGE, SHAPE_LOAD, SHAPE_PANELS_UNLOAD
         ax.set_xlim(0, 0.5)
         ax.set_xlabel(r"preload $\varepsilon = -\Delta L/L$")
         ax.grid(alpha=0.3)
-
 
     from bcfem.plots import pyplot
 

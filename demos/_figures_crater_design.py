@@ -9,8 +9,12 @@ from bcfem.scenes import crater
 from bcfem.scenes.crater import frames as crater_frames
 
 
-def draw(DISSERTATION, QUICK_SHAPES, SHAPES_7_10, STABILITY_COLOURS, TYPES_7_12, args, comm, failed_shapes, ok, on_saddle, report, results, shapes_7_10, still_open, types_7_12) -> None:
+def draw(
+        DISSERTATION, QUICK_SHAPES, SHAPES_7_10, STABILITY_COLOURS, TYPES_7_12, args, comm,
+        failed_shapes, ok, on_saddle, report, results, shapes_7_10, still_open, types_7_12,
+) -> None:
     """Draw and save the figures (rank 0)."""
+
     def field(rows, x, y, key):
         xs, ys = sorted({r[x] for r in rows}), sorted({r[y] for r in rows})
         Z = np.full((len(ys), len(xs)), np.nan)
@@ -18,7 +22,6 @@ def draw(DISSERTATION, QUICK_SHAPES, SHAPES_7_10, STABILITY_COLOURS, TYPES_7_12,
             if r["status"] == "ok":
                 Z[ys.index(r[y]), xs.index(r[x])] = r[key]
         return xs, ys, Z
-
 
     def contour(ax, name, x, y, key, label, lines=()):
         rows = results.get(name, [])
@@ -44,7 +47,6 @@ def draw(DISSERTATION, QUICK_SHAPES, SHAPES_7_10, STABILITY_COLOURS, TYPES_7_12,
         ax.set_xlabel(x)
         ax.set_ylabel(y)
 
-
     def curve(ax, name, x, key, label, **style):
         rows = sorted(ok(name), key=lambda r: r[x])
         ax.plot([r[x] for r in rows], [r[key] for r in rows], "-o", ms=4, label=label, **style)
@@ -53,7 +55,6 @@ def draw(DISSERTATION, QUICK_SHAPES, SHAPES_7_10, STABILITY_COLOURS, TYPES_7_12,
         for r in results.get(name, []):
             if r["status"] != "ok":
                 ax.axvline(r[x], color="r", lw=0.6, ls=":")
-
 
     from bcfem.plots import pyplot
 
