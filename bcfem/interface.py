@@ -11,6 +11,10 @@ described by meridians on the substrate's flat top :math:`Z = 0` (reference tang
   0 at the contact vertex, so that membrane and substrate share that material point;
 * the bonded membrane beyond the contact line, which moves with the substrate surface.
 
+With a mapped reference (:class:`bcfem.solid.AxisymmetricSolid`'s ``reference``, a moving
+debond front) the material radius is :math:`R(\xi)` of the mesh coordinate and slopes
+are taken per :math:`dR = R'\,d\xi`.
+
 :class:`MembraneSurface` gives such a meridian the interface of
 :class:`bcfem.kinematics.AxisymmetricMembrane` (``r``, ``z``, ``dr``, ``dz``, the
 stretches :math:`\lambda_r = |x'|`, :math:`\lambda_\theta = r/R`, the incompressible
@@ -61,11 +65,16 @@ class MembraneSurface:
             disp, slope = disp + w, slope + dw
         X = ufl.SpatialCoordinate(mesh)  # the parent's (the submesh's is wrong in 0.11)
         self.tag = tag
-        self.R = X[0]
+        # the material radius and dR/dxi of the solid's reference map (the membrane bonded to
+        # the substrate shares the substrate's material points)
+        mapped = getattr(solid, "X", None) is not None and solid.X is not solid.x
+        self.R = solid.X[0] if mapped else X[0]
+        J = solid.X[0].dx(0) if mapped else 1
         self.r = X[0] + disp[0]
         self.z = X[1] + disp[1]
-        self.dr = 1 + slope[0]
-        self.dz = slope[1]
+        self.dr = (1 + slope[0]) / J if mapped else 1 + slope[0]
+        self.dz = slope[1] / J if mapped else slope[1]
+        self.J, self.mapped = J, mapped
         self.lam_r = ufl.sqrt(self.dr**2 + self.dz**2)
         self.lam_theta = self.r / self.R
         self.I1 = self.lam_r**2 + self.lam_theta**2 + 1 / (self.lam_r * self.lam_theta) ** 2
@@ -78,7 +87,8 @@ class MembraneSurface:
         None or the surface's own tag: a surface is one tagged part)."""
         if region not in (None, self.tag):
             raise ValueError(f"a MembraneSurface covers facet tag {self.tag} only (got region {region})")
-        return density * 2 * ufl.pi * self.R * self._ds(self.tag)
+        weight = self.R * self.J if self.mapped else self.R
+        return density * 2 * ufl.pi * weight * self._ds(self.tag)
 
     def mean(self, density):
         """The reference-area mean of ``density`` over the surface, as a form."""

@@ -109,7 +109,7 @@ def domain(params, comm):
     return msh, mesh.meshtags(msh, tdim, cells, tags)
 
 
-def _front(ctx):
+def moving_front(ctx):
     """The debond radius R1 with its held/free row (held at R0 = 1 until released), and
     the callable that holds it at R0 again."""
     R1 = ctx.real_state("debond_radius")
@@ -133,7 +133,7 @@ def _front(ctx):
 
 def slippery(ctx, params) -> Edge:
     V = ctx.u.function_space
-    R1, free, rows, restart = _front(ctx)
+    R1, free, rows, restart = moving_front(ctx)
     Vz, _ = V.sub(1).collapse()
     flat = fem.locate_dofs_geometrical((V.sub(1), Vz), lambda x: x[0] >= 1.0 - 1e-12)
     bcs = [fem.dirichletbc(fem.Function(Vz), flat, V.sub(1)), _axis_bc(V)]
@@ -150,7 +150,7 @@ def slippery(ctx, params) -> Edge:
 
 def adhesive(ctx, params) -> Edge:
     V = ctx.u.function_space
-    R1, free, rows, restart = _front(ctx)
+    R1, free, rows, restart = moving_front(ctx)
 
     def constants(p):
         return {"gamma_wet": p.adhesion}

@@ -38,6 +38,7 @@ import ufl
 from dolfinx import default_scalar_type, fem
 
 from bcfem.bcs import component
+from bcfem.branch import Switch
 from bcfem.context import Context
 from bcfem.energies import MembraneStrain, PressureVolume, SolidStrain, SurfaceTension
 from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
@@ -45,8 +46,10 @@ from bcfem.interface import LiquidGap, MembraneSurface, OnSurface, Scaled
 from bcfem.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
 from bcfem.mpi import PointEvaluator, global_sum, real_value
 from bcfem.scene import Scene
+from bcfem.scenes.blister_soft.front import front_weight, material_coordinates, weight_function
 from bcfem.scenes.blister_soft.params import COLUMNS, Params
 from bcfem.scenes.blister_soft.path import SoftScene
+from bcfem.scenes.membrane_edges import moving_front
 from bcfem.solid import AxisymmetricSolid
 from bcfem.submesh import BoundaryPatch
 from bcfem.theory.membrane import droplet_angle_from_volume, simple_membrane_pressure
@@ -67,8 +70,14 @@ class Model:
         self.mesh, self.facets = msh, facets
         V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
         self.u = fem.Function(V, name="displacement")
-        solid = AxisymmetricSolid(self.u, quadrature_degree=4, facet_tags=facets)
-        self.ctx = Context(self.u, solid)
+        self.ctx = Context(self.u)
+        reference, self.rows, self.front = None, {}, None
+        if params.edge == "adhesive":
+            R1, free, self.rows, self.restart_front = moving_front(self.ctx)
+            self.front = free
+            reference = material_coordinates(msh, R1, front_weight(msh, g.size_factor))
+        solid = AxisymmetricSolid(self.u, quadrature_degree=4, facet_tags=facets, reference=reference)
+        self.ctx.kin = solid
         self.patch = BoundaryPatch(msh, facets, WETTED)
         self.w = self.patch.state(self.ctx, "lift", LIFT)
         degree = 8  # the membranes' rational densities on P2 meridians
@@ -111,19 +120,27 @@ class Model:
         return fem.form(expr, entity_maps=self.ctx.entity_maps)
 
     def cap_guess(self, v_over_v0: float) -> float:
-        """Flat substrate, the membrane a spherical cap of volume V/V0 on the unit base (points
-        spread uniformly along the arc); returns a pressure guess (simple membrane theory plus
-        Laplace)."""
-        theta = droplet_angle_from_volume(v_over_v0)
-        rho = 1.0 / math.sin(theta)
-        self.u.x.array[:] = 0.0
+        """The substrate undeformed (x = X), the membrane a spherical cap of volume V/V0 on the
+        base r = R1 (points spread uniformly along the arc); returns a pressure guess (simple
+        membrane theory plus Laplace)."""
         for name, state in self.ctx.states.items():
-            if name not in ("displacement", "lift"):
+            if name not in ("lift", "debond_radius"):
                 state.x.array[:] = 0.0
-        self.w.interpolate(lambda x: np.vstack([rho * np.sin(theta * x[0]) - x[0],
-                                                rho * (np.cos(theta * x[0]) - math.cos(theta))]))
+        R1 = real_value(self.ctx.states["debond_radius"]) if self.front is not None else 1.0
+        theta = droplet_angle_from_volume(v_over_v0 / R1**3)
+        rho = R1 / math.sin(theta)
+        psi = weight_function(self.geometry.size_factor)
+        self.u.interpolate(lambda x: np.vstack([(R1 - 1) * psi(x), 0 * x[0]]))
+
+        def lift(x):
+            R = x[0] + (R1 - 1) * psi(x)  # the material radius on the top
+            s = theta * R / R1
+            return np.vstack([rho * np.sin(s) - R, rho * (np.cos(s) - math.cos(theta))])
+
+        self.w.interpolate(lift)
         p = self.params
-        return min(float(simple_membrane_pressure(v_over_v0)), 2.0) + 2.0 * p.alpha * math.sin(theta)
+        pressure = min(float(simple_membrane_pressure(v_over_v0 / R1**3)), 2.0) / R1
+        return pressure + 2.0 * p.alpha * math.sin(theta) / R1
 
 
 def params_material(params: Params):
@@ -192,6 +209,13 @@ def observables(model: Model):
     pressure = ctx.real_state("pressure")
     line = ContactLine(model)
     comm = model.mesh.comm
+    front = None
+    if "debond_radius" in ctx.states:
+        R1 = ctx.states["debond_radius"]
+        one = fem.Function(R1.function_space)
+        one.x.array[:] = 1.0
+        # the configurational force on the front, d Pi/d R1 at fixed positions (the J-integral)
+        front = model.form(ufl.derivative(sum(t.energy(ctx) for t in model.terms), R1, one))
 
     def observe() -> dict:
         lift_apex = comm.allreduce(float(w.x.array.reshape(-1, 2)[owned_axis, 1].sum()))
@@ -208,6 +232,8 @@ def observables(model: Model):
             "contact_angle_deg": 180.0 - angle(e_f, np.array([1.0, 0.0])),
             "indentation": -z_s,
             "r1_over_R0": here["r0"],
+            "R1_over_R0": real_value(ctx.states["debond_radius"]) if front else 1.0,
+            **({"dPi_dR1": global_sum(front) / math.pi} if front else {}),
             "energy": global_sum(energy) / math.pi - model.energy_offset,
             "z_apex": z_s + lift_apex,
             # the three angles at the contact line: in the liquid, in the substrate, between
@@ -232,7 +258,16 @@ def build(params: Params, comm, data=None) -> Scene:
     def guard(values):
         if values["V_over_V0"] <= 0:
             return f"the blister volume is not positive (V/V0 = {values['V_over_V0']:.3g})"
+        if values["R1_over_R0"] > params.size_factor / 2:
+            return (f"the debond radius R1/R0 = {values['R1_over_R0']:.4g} passed half the block "
+                    f"(size-factor {params.size_factor:g}); raise --size-factor or lower --v-max")
         return None
+
+    switches = []
+    if model.front is not None:
+        # Griffith, no healing: the front moves once the release rate -dPi/dR1 turns positive
+        switches.append(Switch("delamination onset", lambda values: -values["dPi_dR1"],
+                               lambda: setattr(model.front, "value", 1.0), grows="debond_radius"))
 
     scene = SoftScene(
         name="blister-soft", ctx=model.ctx, terms=model.terms, bcs=model.bcs, load="pressure",
@@ -243,7 +278,7 @@ def build(params: Params, comm, data=None) -> Scene:
         plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μf t0)"),
                "indentation.png": ("V_over_V0", "indentation", "V/V0", "-z_s(0)/R0")},
         load_scale=max(1.0, 2 * params.alpha), guard=guard, summarize=summarize, params=params,
-        columns=COLUMNS)
+        columns=COLUMNS, rows=model.rows, switches=switches)
     scene.norm = {"displacement": 1.0, "lift": 1.0}
     scene.mean = model.free.mean
     scene.model = model
@@ -263,7 +298,10 @@ def summarize(branch) -> dict:
         if c[0] < 0:
             v = -c[1] / (2 * c[0])
             result = {"V_over_V0": float(v), "depth": float(np.polyval(c, v)), "interior": True}
-    return {"indentation_max": result}
+    onset = next((e for e in branch.events if e["name"] == "delamination onset"), None)
+    return {"indentation_max": result,
+            "delamination_onset": None if onset is None else {
+                key: onset[key] for key in ("V_over_V0", "P", "r1_over_R0", "energy", "dPi_dR1")}}
 
 
 def contact_forces(model: Model) -> dict:

@@ -25,7 +25,11 @@ substrate's wetted top, u_f = u_s + w with w = 0 at the contact line; the
 bonded membrane (R > R0) is a surface hyperelastic term on the substrate's top.
 The contact-line conditions (eqs. 4.52-4.53, Neumann's triangle without the
 membrane) are natural conditions of Pi. The pressure is traced by arc-length
-through its limit points. Far field: the block 0 <= R <= L R0, -L R0 <= Z <= 0,
+through its limit points. With --edge adhesive the debond radius R1 (the membrane's
+material point at the contact line) is a state: held at R0 until the configurational
+force -dPi/dR1 turns positive (delamination onset), then dPi/dR1 = 0 (Griffith, no
+healing); the mesh stays, a map of the reference configuration moves the front.
+Far field: the block 0 <= R <= L R0, -L R0 <= Z <= 0,
 bottom fixed, far side on rollers (u_r = 0), axis u_r = 0.
 
 Units and normalisations (all inputs and outputs are dimensionless):
@@ -40,10 +44,12 @@ Units and normalisations (all inputs and outputs are dimensionless):
   liquid/substrate/membrane angle
                    = the wedges at the contact line between the tangents the energy
                      sees (the line force of a unit tension on each surface), degrees
-  indentation      = -z_s(0) / R0;  r1_over_R0 = r0 / R0
+  indentation      = -z_s(0) / R0;  r1_over_R0 = current contact radius / R0
+  R1_over_R0       = debond radius (material) / R0; dPi_dR1 over pi mu_f t0 R0
   energy           = (Pi - gamma_ls pi R0^2 - dgamma pi (L^2 - 1) R0^2)/(pi R0^2 mu_f t0)
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/indentation.png,
-DIR/fields.bp (VTX)."""
+DIR/fields.bp (VTX; the displacement is the position minus the mesh point, which
+differs from the material point by the front's map when R1 > R0)."""
 HELP = {
     "material": "strain-energy function of the membrane",
     "Jm": "Gent locking limit of I1-3, > 0 (Gent only)",
@@ -51,7 +57,8 @@ HELP = {
     "alpha": "gamma_l/(mu_f t0), liquid-membrane interface energy, >= 0",
     "gamma_ls": "gamma_ls/(mu_f t0), liquid-substrate interface energy, >= 0",
     "delta_gamma": "dgamma/(mu_f t0), membrane-substrate interface energy, >= 0",
-    "edge": "edge condition: bonded (R0 fixed)",
+    "edge": "edge condition: bonded (R0 fixed) or adhesive (the debond radius R1 >= R0 is a state, "
+            "released when -dPi/dR1 turns positive, then dPi/dR1 = 0)",
     "size_factor": "L: the substrate block is L R0 wide and deep, > 1",
     "v_max": "end of the branch, V/V0 > v-start",
     "v_start": "start of the branch, V/V0 > 0",
@@ -62,8 +69,10 @@ HELP = {
     "kappa_ratio": "bulk over shear modulus of the substrate, in [10, 1e8]",
 }
 COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0", "energy",
-           "z_apex", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "s"]
-EDGES = ("bonded",)
+           "z_apex", "R1_over_R0", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "s"]
+EDGES = ("bonded", "adhesive")
+#: half-width of the region around the contact line that the moving front translates, in R0
+FRONT_PLATEAU = 0.25
 
 
 @dataclass(frozen=True)
@@ -75,7 +84,8 @@ class Params:
         Jm: Gent locking limit of I1 - 3 (ignored for neo-Hookean).
         stiffness_ratio: mu_s R0/(mu_f t0); large is the rigid substrate of ``blister-rigid``.
         alpha, gamma_ls, delta_gamma: the three interface energies over mu_f t0.
-        edge: 'bonded' (the material contact point R0 is fixed on the substrate).
+        edge: 'bonded' (the material contact point R0 is fixed on the substrate) or
+            'adhesive' (the debond radius R1 is a state, :mod:`.front`).
         size_factor: L, the block's width and depth over R0.
         v_max, v_start: the branch in V/V0.
         size_contact, size_far, growth, refine: the mesh.
@@ -113,6 +123,8 @@ class Params:
         require(self.edge in EDGES, f"edge must be one of {list(EDGES)} (got {self.edge!r})")
         require(self.size_factor > 1 and math.isfinite(self.size_factor),
                 f"size-factor must be > 1 (got {self.size_factor})")
+        require(self.edge != "adhesive" or self.size_factor >= 2 * (1 + FRONT_PLATEAU),
+                f"size-factor must be >= {2 * (1 + FRONT_PLATEAU):g} for the adhesive edge (got {self.size_factor})")
         require(0 < self.v_start < self.v_max and math.isfinite(self.v_max),
                 f"need 0 < v-start < v-max (got {self.v_start}, {self.v_max})")
         require(self.size_far >= 0, f"size-far must be >= 0 (got {self.size_far})")

@@ -94,7 +94,8 @@ def trace(scene: SoftScene, on_accept=None, run=None):
     params = scene.params
     arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale, norm=scene.norm, mean=scene.mean)
     arguments = (scene.ctx, scene.terms, scene.bcs)
-    options = dict(petsc_options=scene.petsc_options, rows=arc.rows(), energy_scale=scene.load_scale)
+    options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
+                   energy_scale=scene.load_scale)
     if run is not None:
         problem = run.problem("branch", *arguments, **options)
     else:
@@ -116,7 +117,7 @@ def trace(scene: SoftScene, on_accept=None, run=None):
             problem.restore(origin)
             arc.restart_row(problem)
         branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
-                           guard=scene.guard, direction=forward)
+                           guard=scene.guard, switches=scene.switches, direction=forward)
         if back is not None:
             branch = _join(back, branch)
     finally:
