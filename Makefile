@@ -38,6 +38,7 @@ bench: venv
 	$(BIN)/python benchmarks/crater_design.py
 	$(BIN)/python benchmarks/crater_regulariser.py
 	$(BIN)/python benchmarks/blister_soft.py
+	$(BIN)/python benchmarks/blister_soft_delamination.py
 	$(BIN)/python benchmarks/droplet_soft.py
 
 # the dissertation's figures, reproduced by the demos on $(NP) ranks: docs/figures/<demo>/

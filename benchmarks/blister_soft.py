@@ -74,27 +74,28 @@ def worker(case: dict) -> dict:
             **({"frames": frames} if case["scene"] == "soft" else {})}
 
 
-def frame_recorder(scene, frames: list):
-    """An on_accept that keeps the substrate's top (R <= FRAME_EXTENT) and the free membrane
-    at the first accepted point past each of FRAME_VOLUMES (Fig. 4.6)."""
+def profiles(model, extent: float = FRAME_EXTENT) -> dict:
+    """The current substrate's top (mesh R <= extent) and free membrane, as (r, z) lists."""
     import numpy as np
 
     from bcfem.mpi import sample
 
-    model = scene.model
-    R_top = np.linspace(0.0, FRAME_EXTENT, 301)
-    R_free = np.linspace(0.0, 1.0, 101)
-    top = np.column_stack([R_top, 0 * R_top, 0 * R_top])
-    free = np.column_stack([R_free, 0 * R_free, 0 * R_free])
+    top = np.column_stack([np.linspace(0.0, extent, 301), np.zeros(301), np.zeros(301)])
+    free = np.column_stack([np.linspace(0.0, 1.0, 101), np.zeros(101), np.zeros(101)])
+    u_top, u_free, w = sample(model.u, top), sample(model.u, free), sample(model.w, free)
+    return {"substrate": (top[:, :2] + u_top).tolist(), "membrane": (free[:, :2] + u_free + w).tolist()}
+
+
+def frame_recorder(scene, frames: list):
+    """An on_accept that keeps the :func:`profiles` at the first accepted point past each of
+    FRAME_VOLUMES (Fig. 4.6)."""
     targets = list(FRAME_VOLUMES)
 
     def on_accept(values):
         if not targets or values["V_over_V0"] < targets[0]:
             return
         targets.pop(0)
-        u_top, u_free, w = sample(model.u, top), sample(model.u, free), sample(model.w, free)
-        frames.append({"V_over_V0": float(values["V_over_V0"]), "P": float(values["P"]),
-                       "substrate": (top[:, :2] + u_top).tolist(), "membrane": (free[:, :2] + u_free + w).tolist()})
+        frames.append({"V_over_V0": float(values["V_over_V0"]), "P": float(values["P"]), **profiles(scene.model)})
 
     return on_accept
 

@@ -7,7 +7,8 @@
 * the onset two ways: the configurational force's sign change equals the zero of
   dF/dR1 at fixed V from the energies of two held models (slow);
 * the dissertation's fixed-R1 model's critical point lies on the propagating branch (slow);
-* ``mpirun -n 2`` equals serial through delamination (slow).
+* ``mpirun -n 2`` equals serial through delamination (slow);
+* an inverting substrate stops the run with a clear message.
 """
 
 import json
@@ -189,3 +190,16 @@ def test_two_ranks_equal_serial_through_delamination(tmp_path):
     last2 = np.array(rows2[-1].split(","), dtype=float)
     assert last1[rows1[0].split(",").index("R1_over_R0")] > 1.05
     assert last2 == pytest.approx(last1, rel=1e-7, abs=1e-9)
+
+
+@pytest.mark.serial
+def test_an_inverting_substrate_fails_with_a_clear_message(tmp_path):
+    """Fig. 4.8's tensions (dgamma = 0) at stiffness ratio 2: the bulk must carry a line force
+    of about mu_f t0 and the substrate inverts at the contact line; the run stops (exit 1)
+    naming it instead of accepting the state."""
+    out = tmp_path / "out"
+    result = bcfem("run", "blister-soft", "--stiffness-ratio", "2", "--delta-gamma", "0", "--v-max", "1",
+                   "--out", out)
+    assert result.returncode == 1, result.stderr[-2000:]
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "failed" and "substrate inverts" in summary["error"]

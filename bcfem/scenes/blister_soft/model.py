@@ -44,7 +44,7 @@ from bcfem.energies import MembraneStrain, PressureVolume, SolidStrain, SurfaceT
 from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
 from bcfem.interface import LiquidGap, MembraneSurface, OnSurface, Scaled
 from bcfem.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
-from bcfem.mpi import PointEvaluator, global_sum, real_value
+from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
 from bcfem.scene import Scene
 from bcfem.scenes.blister_soft.front import front_weight, material_coordinates, weight_function
 from bcfem.scenes.blister_soft.params import COLUMNS, Params
@@ -209,6 +209,7 @@ def observables(model: Model):
     pressure = ctx.real_state("pressure")
     line = ContactLine(model)
     comm = model.mesh.comm
+    inversion = cell_maximum(model.mesh, -ctx.kin.J, 2)  # at the solid's Gauss points
     front = None
     if "debond_radius" in ctx.states:
         R1 = ctx.states["debond_radius"]
@@ -241,6 +242,7 @@ def observables(model: Model):
             "liquid_angle_deg": angle(e_f, e_ls),
             "substrate_angle_deg": angle(e_ls, e_s),
             "membrane_angle_deg": angle(e_f, e_s),
+            "J_min": -inversion(),
             "_line": here,
         }
 
@@ -258,6 +260,10 @@ def build(params: Params, comm, data=None) -> Scene:
     def guard(values):
         if values["V_over_V0"] <= 0:
             return f"the blister volume is not positive (V/V0 = {values['V_over_V0']:.3g})"
+        if not values["J_min"] > 0:
+            return (f"the substrate inverts (min J = {values['J_min']:.3g} at V/V0 = {values['V_over_V0']:.4g}): the "
+                    f"line force at the contact line, which the interface tensions leave to the bulk, is too large "
+                    f"for its modulus; the state is not physical (see docs/results.md, chapter 4)")
         if values["R1_over_R0"] > params.size_factor / 2:
             return (f"the debond radius R1/R0 = {values['R1_over_R0']:.4g} passed half the block "
                     f"(size-factor {params.size_factor:g}); raise --size-factor or lower --v-max")

@@ -46,6 +46,8 @@ Units and normalisations (all inputs and outputs are dimensionless):
                      sees (the line force of a unit tension on each surface), degrees
   indentation      = -z_s(0) / R0;  r1_over_R0 = current contact radius / R0
   R1_over_R0       = debond radius (material) / R0; dPi_dR1 over pi mu_f t0 R0
+  J_min            = the substrate's smallest volume ratio (a state with J_min <= 0
+                     is refused: the substrate would invert)
   energy           = (Pi - gamma_ls pi R0^2 - dgamma pi (L^2 - 1) R0^2)/(pi R0^2 mu_f t0)
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/indentation.png,
 DIR/fields.bp (VTX; the displacement is the position minus the mesh point, which
@@ -69,7 +71,7 @@ HELP = {
     "kappa_ratio": "bulk over shear modulus of the substrate, in [10, 1e8]",
 }
 COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0", "energy",
-           "z_apex", "R1_over_R0", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "s"]
+           "z_apex", "R1_over_R0", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "J_min", "s"]
 EDGES = ("bonded", "adhesive")
 #: half-width of the region around the contact line that the moving front translates, in R0
 FRONT_PLATEAU = 0.25

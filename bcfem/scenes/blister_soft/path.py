@@ -107,15 +107,22 @@ def trace(scene: SoftScene, on_accept=None, run=None):
         start(arc, problem, scene)
         solves = homotopy(problem, path)
         logger.info(f"blister-soft: reached the parameters from a stiff start in {solves} solves")
+        if message := scene.guard(scene.observe()):
+            raise ContinuationError(f"at the start: {message}")
         arc.restart_row(problem)
         forward = arc.forward_sign(problem, scene.observe, scene.grows)
         back = None
-        if scene.observe()["V_over_V0"] > params.v_start * (1 + 1e-9):
+        here = scene.observe()
+        if here["V_over_V0"] > params.v_start * (1 + 1e-9):
             origin = problem.save()
             back = arc.trace(problem, scene.observe, lambda v: params.v_start - v["V_over_V0"],
                              scene.progress_keys, guard=scene.guard, direction=-forward)
-            problem.restore(origin)
             arc.restart_row(problem)
+            if scene.end(here) >= 0:  # the end lies behind the start: the whole branch from v_start
+                back, forward = None, arc.forward_sign(problem, scene.observe, scene.grows)
+            else:
+                problem.restore(origin)
+                arc.restart_row(problem)
         branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
                            guard=scene.guard, switches=scene.switches, direction=forward)
         if back is not None:
