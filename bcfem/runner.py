@@ -11,7 +11,8 @@ records the accepted rows, the effective PETSc options and the cost. Arc-length 
   ``versions`` and ``petsc_options`` (the effective options, by full name);
 * ``branch.csv``: the accepted rows; on failure the converged part is kept and the
   command exits 1;
-* the scene's PNGs, and ``fields.bp`` for scenes with fields.
+* the scene's PNGs, and ``fields.bp`` for scenes with fields (``fields_<name>.bp`` for
+  fields on a boundary submesh).
 """
 
 from __future__ import annotations
@@ -66,7 +67,7 @@ class Run:
         self.scene = scene
         self.comm = comm
         self.fields_path = fields_path
-        self._writer = None
+        self._writers: list = []
         self.rows: list[dict] = []
         self.results: dict = {}
         self.petsc_options: dict[str, str] = {}
@@ -111,19 +112,29 @@ class Run:
 
     def watch(self, functions) -> None:
         """Write ``functions`` at every recorded row (collective; VTX, when the run has a
-        fields path). A second call, e.g. for the model of a retraced path, starts the file
-        again."""
+        fields path): those on the first one's mesh into ``fields.bp``, those on another mesh
+        (a boundary submesh) into ``fields_<name of its first function>.bp``. A second call,
+        e.g. for the model of a retraced path, starts the files again."""
         if self.fields_path is None or not functions:
             return
-        if self._writer is not None:
-            self._writer.close()
-        self._writer = io.FieldWriter(self.comm, self.fields_path, functions)
+        self._close_writers()
+        groups: dict[int, list] = {}
+        for f in functions:
+            groups.setdefault(id(f.function_space.mesh), []).append(f)
+        for k, group in enumerate(groups.values()):
+            path = self.fields_path if k == 0 else self.fields_path.with_name(f"fields_{group[0].name}.bp")
+            self._writers.append(io.FieldWriter(self.comm, path, group))
 
     def on_accept(self, row: dict) -> None:
         """Write the watched fields of an accepted state (its time: the arc length, or the
         row's index)."""
-        if self._writer is not None:
-            self._writer.write(row.get("s", len(self.rows)))
+        for writer in self._writers:
+            writer.write(row.get("s", len(self.rows)))
+
+    def _close_writers(self) -> None:
+        for writer in self._writers:
+            writer.close()
+        self._writers = []
 
     def record(self, row: dict) -> None:
         """Keep an accepted state's observables (and write its fields)."""
@@ -138,9 +149,7 @@ class Run:
     def close(self) -> None:
         for problem in list(self._problems):
             self.release(problem)
-        if self._writer is not None:
-            self._writer.close()
-            self._writer = None
+        self._close_writers()
 
 
 def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:

@@ -4,7 +4,8 @@ At mu_s R0/(mu_f t0) = 2 with gamma_l = gamma_ls = dgamma = 0.5 mu_f t0 (Fig. 4.
 tensions; Fig. 4.8's dgamma = 0 inverts the substrate at the contact line, see
 docs/results.md), neo-Hookean membrane, L = 10, default mesh, one process:
 
-* the bonded edge (R1 = R0 throughout) and the adhesive edge (the front released at the
+* P, contact angle and central deflection z_f(0)/R0 against V/V0 (Fig. 4.8a-c) of
+  the bonded edge (R1 = R0 throughout) and the adhesive edge (the front released at the
   onset, then dPi/dR1 = 0) traced to V/V0 = 3;
 * the rigid substrate (``blister-rigid``, clamped and adhesive with adhesion
   gamma_ls - dgamma = 0);
@@ -37,11 +38,15 @@ from common import atomic_text, csv_text, save_figure
 RATIO = 2.0
 V_MAX = 3.0
 HELD = (1.2, 1.4, 1.6, 1.8, 2.0, 2.2)
-KEYS = ("V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0", "R1_over_R0")
+KEYS = ("V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0", "R1_over_R0", "z_apex")
 
 
 def rows_of(branch, model: str) -> list[dict]:
-    return [{"model": model, **{k: float(r[k]) for k in KEYS if k in r}} for r in branch.rows]
+    """The branch's rows; z_apex is the apex height over R0 (the rigid scene's ``aspect``)."""
+    rows = [{"model": model, **{k: float(r[k]) for k in KEYS if k in r}} for r in branch.rows]
+    for row in rows:
+        row.setdefault("z_apex", row["aspect"])
+    return rows
 
 
 def soft(edge: str):
@@ -100,15 +105,15 @@ def plot(rows, onset, rigid_onset, held) -> None:
     for model, (colour, line) in styles.items():
         part = [r for r in rows if r["model"] == model]
         v = [r["V_over_V0"] for r in part]
-        for ax, key in zip(axes, ("P", "contact_angle_deg", "aspect")):
+        for ax, key in zip(axes, ("P", "contact_angle_deg", "z_apex")):
             ax.plot(v, [r[key] for r in part], color=colour, ls=line, lw=1.2, label=model)
-    for ax, key in zip(axes, ("P", "contact_angle_deg", "aspect")):
+    for ax, key in zip(axes, ("P", "contact_angle_deg", "z_apex")):
         ax.plot([h["V_over_V0"] for h in held], [h[key] for h in held], "o", mfc="none", mec="r",
                 label="held R1, dPi/dR1 = 0")
         ax.plot(onset["V_over_V0"], onset[key], "bD", label="onset (soft)")
         ax.set_xlabel("V/V0")
     axes[0].plot(rigid_onset["V_over_V0"], rigid_onset["P"], "bs", label="onset (rigid)")
-    for ax, name in zip(axes, ("P = Δp R0/(μf t0)", "contact angle [deg]", "aspect z_f(0)/r0")):
+    for ax, name in zip(axes, ("P = Δp R0/(μf t0)", "contact angle [deg]", "central deflection z_f(0)/R0")):
         ax.set_ylabel(name)
     axes[0].legend(fontsize=7)
     fig.suptitle("Fig. 4.8: μs R0/(μf t0) = 2, γl = γls = Δγ = 0.5 μf t0", fontsize=10)

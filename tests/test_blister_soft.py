@@ -179,6 +179,8 @@ def test_two_ranks_equal_serial(tmp_path):
     serial, out1 = run(tmp_path, "serial", *args)
     parallel, out2 = run(tmp_path, "parallel", *args, ranks=2)
     assert parallel["ranks"] == 2
+    for out in (out1, out2):  # VTX of the substrate and of the free membrane's lift
+        assert (out / "fields.bp" / "md.idx").is_file() and (out / "fields_lift.bp" / "md.idx").is_file()
     for key in ("V_over_V0", "P", "aspect", "indentation"):
         assert p_max(parallel)[key] == pytest.approx(p_max(serial)[key], rel=1e-8)
     rows1 = (out1 / "branch.csv").read_text().splitlines()

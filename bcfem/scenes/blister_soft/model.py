@@ -279,7 +279,7 @@ def build(params: Params, comm, data=None) -> Scene:
         name="blister-soft", ctx=model.ctx, terms=model.terms, bcs=model.bcs, load="pressure",
         start=lambda fraction: model.cap_guess(fraction * params.v_start), observe=observe,
         end=lambda values: values["V_over_V0"] - params.v_max, grows="V_over_V0",
-        progress_keys=("V_over_V0", "P", "indentation"), fields=[model.u],
+        progress_keys=("V_over_V0", "P", "indentation"), fields=[model.u, model.w],
         continuation=params.continuation,
         plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μf t0)"),
                "indentation.png": ("V_over_V0", "indentation", "V/V0", "-z_s(0)/R0")},

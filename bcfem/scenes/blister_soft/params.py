@@ -50,8 +50,9 @@ Units and normalisations (all inputs and outputs are dimensionless):
                      is refused: the substrate would invert)
   energy           = (Pi - gamma_ls pi R0^2 - dgamma pi (L^2 - 1) R0^2)/(pi R0^2 mu_f t0)
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/indentation.png,
-DIR/fields.bp (VTX; the displacement is the position minus the mesh point, which
-differs from the material point by the front's map when R1 > R0)."""
+DIR/fields.bp (VTX, the substrate; the displacement is the position minus the mesh
+point, which differs from the material point by the front's map when R1 > R0),
+DIR/fields_lift.bp (VTX, the free membrane's lift w on the wetted top: x_f = x_s + w)."""
 HELP = {
     "material": "strain-energy function of the membrane",
     "Jm": "Gent locking limit of I1-3, > 0 (Gent only)",
