@@ -58,8 +58,10 @@ class SealedFluid:
         return (self.pressure_name,)
 
     def unknowns(self, ctx):
-        """(pressure state, sealed volume constant)."""
-        return ctx.real_state(self.pressure_name), ctx.constant("sealed_volume", self.sealed_volume)
+        """(pressure state, sealed volume constant ``<pressure_name>_sealed``: each pressure
+        its own, so that several chambers, sealed apart, live in one model)."""
+        return (ctx.real_state(self.pressure_name),
+                ctx.constant(f"{self.pressure_name}_sealed", self.sealed_volume))
 
 
 class IdealGas(SealedFluid):

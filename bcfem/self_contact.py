@@ -98,7 +98,7 @@ class WallSelfContact:
 
     Args:
         facet_tags: the mesh's facet tags.
-        boundary: tag of the boundary that may touch itself.
+        boundary: tag (or tuple of tags) of the boundary that may touch itself.
         modulus: shear modulus of the stiffest material at that boundary (sets k).
         penalty: c_k, the penalty over μ/L (penetration ~ contact pressure / (c_k μ) L).
         depth: the deepest penetration taken for contact, in segment lengths.
@@ -107,7 +107,8 @@ class WallSelfContact:
     is_discrete = True
     name = "self_contact"
 
-    def __init__(self, facet_tags, boundary: int, modulus: float, penalty: float = 1e3, depth: float = 0.25):
+    def __init__(self, facet_tags, boundary: int | tuple[int, ...], modulus: float, penalty: float = 1e3,
+                 depth: float = 0.25):
         require(modulus > 0, f"self-contact modulus must be > 0 (got {modulus})")
         require(penalty > 0, f"self-contact penalty must be > 0 (got {penalty})")
         require(0 < depth < 1, f"self-contact depth must be in (0, 1) segment lengths (got {depth})")
@@ -131,7 +132,8 @@ class WallSelfContact:
         msh.topology.create_connectivity(1, 2)
         f_to_c = msh.topology.connectivity(1, 2)
         segments, nodes, midpoints = [], {}, set()
-        for f in self.facet_tags.find(self.boundary):
+        tags = self.boundary if isinstance(self.boundary, tuple) else (self.boundary,)
+        for f in np.concatenate([self.facet_tags.find(t) for t in tags]):
             blocks = fem.locate_dofs_topological(V, 1, np.array([f], dtype=np.int32), remote=False)
             pts = X[blocks]
             far = max(((i, j) for i in range(3) for j in range(i + 1, 3)),

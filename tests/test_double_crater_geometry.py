@@ -276,3 +276,30 @@ def test_sidewall_band_under_a_shear_is_its_closed_form():
     below = global_sum(lower)
     Z2, _ = split.move(0.7, 0.5)
     assert global_sum(lower) - below == pytest.approx(primitive(Z2) - primitive(Z1), rel=1e-10)
+
+
+@pytest.mark.mpi
+def test_each_chamber_holds_its_own_gas():
+    """Two ideal gases, one per chamber (sealed apart, each with its own pressure and amount),
+    in one model: each pressure's row is Boyle's law of its own chamber, zero at p_i = n_i / V_i."""
+    from bcfem.context import Context
+    from bcfem.fluids import IdealGas
+
+    g = DEFAULT
+    data = mesh_of(g)
+    split = split_of(data)
+    split.move(g.contact_height, g.contact_height)
+    kin = solid(data)
+    ctx = Context(kin.u, kin)
+    c1, c2 = split.chambers()
+    amounts = {"p_c1": 0.05, "p_c2": 0.2}
+    gases = [IdealGas(c1, amounts["p_c1"], "p_c1"), IdealGas(c2, amounts["p_c2"], "p_c2")]
+    volumes = [global_sum(fem.form(c.volume(kin))) for c in (c1, c2)]
+    energy = sum(gas.energy(ctx) for gas in gases)
+    for (name, amount), volume in zip(amounts.items(), volumes):
+        ctx.real_state(name).x.array[:] = amount / volume
+    for name, p in ((n, ctx.real_state(n)) for n in amounts):
+        one = fem.Function(p.function_space)
+        one.x.array[:] = 1.0
+        row = global_sum(fem.form(ufl.derivative(energy, p, one)))
+        assert row == pytest.approx(0.0, abs=1e-12), name
