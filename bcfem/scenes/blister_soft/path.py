@@ -88,6 +88,14 @@ def start_path(ctx, params):
     return path
 
 
+def energy_scale(scene) -> float:
+    """The residual's unit: the load's, or a stiff substrate's modulus over 1000. Round-off
+    in the substrate's residual grows with its modulus k (about 1e-13 k) and stalled Newton
+    above its absolute tolerance on the adhesive edge at k = 1e4. A larger unit (k/100) let
+    the step control grow steps until the bonded branch jumped at k = 1e4."""
+    return max(scene.load_scale, scene.params.stiffness_ratio / 1000)
+
+
 def trace(scene: SoftScene, on_accept=None, run=None):
     """Start stiff, soften, trace back to ``v_start`` if needed, then forward; returns the branch
     (the problem is the run's, or closed here)."""
@@ -95,7 +103,7 @@ def trace(scene: SoftScene, on_accept=None, run=None):
     arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale, norm=scene.norm, mean=scene.mean)
     arguments = (scene.ctx, scene.terms, scene.bcs)
     options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
-                   energy_scale=scene.load_scale)
+                   energy_scale=energy_scale(scene))
     if run is not None:
         problem = run.problem("branch", *arguments, **options)
     else:
