@@ -21,10 +21,10 @@ class Cavity:
     """The cavity bounded by the boundary part ``boundary`` and the plate z = 0.
 
     Attributes:
-        boundary: facet tag of the cavity's wall.
+        boundary: facet tag (or tuple of tags) of the cavity's wall.
     """
 
-    boundary: int
+    boundary: int | tuple[int, ...]
 
     def volume(self, kin):
         """The current volume as a form over the wall (kinematics with ``height``,

@@ -171,12 +171,12 @@ class SolidSurfaceEnergy:
 
     Attributes:
         gamma: surface energy density [N/m], >= 0; the run-time constant ``name``.
-        boundary: facet tag of the surface.
+        boundary: facet tag (or tuple of tags) of the surface.
         name: name of the run-time constant.
     """
 
     gamma: float
-    boundary: int
+    boundary: int | tuple[int, ...]
     name: str = "gamma_solid"
     multipliers = ()
 

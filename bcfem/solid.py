@@ -101,7 +101,7 @@ class AxisymmetricSolid:
         """
         return self.integral(density / self.reference_volume)
 
-    def surface_integral(self, density, boundary: int):
+    def surface_integral(self, density, boundary: int | tuple[int, ...]):
         """``density`` integrated over the reference boundary part ``boundary``, dA = 2 pi r dS."""
         weight = self.x[0] if self._G is None else self.X[0] * self._line
         return density * 2 * ufl.pi * weight * self._ds(boundary)

@@ -303,3 +303,37 @@ def test_each_chamber_holds_its_own_gas():
         one.x.array[:] = 1.0
         row = global_sum(fem.form(ufl.derivative(energy, p, one)))
         assert row == pytest.approx(0.0, abs=1e-12), name
+
+
+@pytest.mark.mpi
+def test_a_chamber_enclosed_by_the_specimen_pulls_on_nothing():
+    """The net force of a chamber's gas on the specimen is (p - p_a) times the derivative of
+    its volume along a rigid lift of the specimen. With the sidewall's split point moved onto
+    the protuberance's (the gap closed there), C2 is enclosed by the specimen alone: its
+    volume does not change under the lift, whatever its pressure; C1, bounded by the plate
+    under the hanging protuberance, changes by the plate's whole crater area pi r0^2."""
+    g = DEFAULT
+    data = mesh_of(g)
+    split = split_of(data)
+    Zw, Zb = split.move(g.centre_height, g.centre_height)
+    rb = g.protuberance_radius_at(Zb)
+    width = g.r0 - rb
+
+    def closing(x):
+        """Carries the sidewall point (r0, Zw) onto the protuberance point (rb, Zb); the
+        protuberance (r <= rb) stays where it is."""
+        bump = np.clip((x[0] - rb) / width, 0, 1) * np.exp(-(((x[1] - Zw) / 0.1) ** 2))
+        return np.vstack([-width * bump, (Zb - Zw) * bump])
+
+    kin = solid(data, closing)
+    lift = fem.Function(kin.u.function_space)
+    lift.interpolate(lambda x: np.vstack([0 * x[0], 1 + 0 * x[0]]))
+    c1, c2 = split.chambers()
+    rates = [global_sum(fem.form(ufl.derivative(c.volume(kin), kin.u, lift))) for c in (c1, c2)]
+    assert rates[1] == pytest.approx(0.0, abs=1e-12 * g.crater_volume)
+    assert rates[0] == pytest.approx(math.pi * g.r0**2, rel=1e-10)
+    # at rest the gap is open: C2 alone is not closed, and the lift changes its volume by
+    # the open plug's projected area
+    rest = solid(data)
+    open_rate = global_sum(fem.form(ufl.derivative(c2.volume(rest), rest.u, lift)))
+    assert abs(open_rate) == pytest.approx(math.pi * (g.r0**2 - rb**2), rel=1e-10)

@@ -32,13 +32,26 @@ from bcfem.solid import AxisymmetricSolid
 
 
 class Crater:
-    """The composed crater model: mesh, states, terms, the two stages' problems."""
+    """The composed crater model: mesh, states, terms, the two stages' problems.
+
+    A subclass may change the geometry: :attr:`walls` (the cavity's wall, one curve from the
+    rim on the plate to the axis, given as facet tags) and :meth:`create_mesh`; its geometry
+    has ``crater_radius`` (the rim's), ``crater_volume`` and the mesh's tags of
+    :mod:`bcfem.geometry.crater` for the axis, bottom and top.
+    """
+
+    #: facet tags of the cavity's wall
+    walls: tuple[int, ...] = (CRATER,)
+
+    @staticmethod
+    def create_mesh(geometry, comm):
+        return create_mesh(geometry, comm)
 
     def __init__(self, params: Params, comm):
         self.params = params
         geometry = params.geometry()
         self.geometry = geometry
-        data = create_mesh(geometry, comm)
+        data = self.create_mesh(geometry, comm)
         msh, facets = data.mesh, data.facet_tags
         V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
         self.u = fem.Function(V, name="displacement")
@@ -55,23 +68,23 @@ class Crater:
             self.solids = [SolidStrain(neo_hookean(params.beta))]
         self.platen = fem.Function(V.sub(1).collapse()[0])
         gamma = params.surface_energy * params.beta * geometry.crater_radius  # gamma~ mu a
-        self.surface = SolidSurfaceEnergy(gamma, CRATER, "crater_surface_energy") if gamma > 0 else None
+        self.surface = SolidSurfaceEnergy(gamma, self.walls, "crater_surface_energy") if gamma > 0 else None
         self.viscosity = Viscosity(self.u)
         # the wall (or its lining) must not fold through itself; the stiffest material sets k
         stiffest = params.beta * (max(1.0, params.layer_stiffness) if params.layer_thickness > 0 else 1.0)
         # residuals in units of the stiffest modulus (>= p_a): Newton's round-off floor grows
         # with the stiffness and stalled above the absolute tolerance for beta' = 300 linings
         self.energy_scale = max(1.0, stiffest)
-        self.self_contact = (WallSelfContact(facets, CRATER, stiffest, penalty=params.self_contact)
+        self.self_contact = (WallSelfContact(facets, self.walls, stiffest, penalty=params.self_contact)
                              if params.self_contact > 0 else None)
         self.strain = 0.0
         self.bcs = self._bcs(V, facets)
-        self.cavity = Cavity(CRATER)
+        self.cavity = Cavity(self.walls)
         self.volume = fem.form(self.cavity.volume(self.ctx.kin))
         self.rim = PointEvaluator(msh, [geometry.crater_radius, 0.0]).expression(self.u[0])
         Vz, zmap = V.sub(1).collapse()
         _, rmap = V.sub(0).collapse()
-        wall = fem.locate_dofs_topological(Vz, 1, facets.find(CRATER))
+        wall = fem.locate_dofs_topological(Vz, 1, np.concatenate([facets.find(tag) for tag in self.walls]))
         self._wall_dofs = wall
         # reference points and displacement dofs of the crater wall, found once
         self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
