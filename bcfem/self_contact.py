@@ -258,6 +258,10 @@ class WallSelfContact:
         return _padded(np.minimum(start, end) + np.minimum(behind, 0.0),
                        np.maximum(start, end) + np.maximum(behind, 0.0))
 
+    def contacts(self):
+        """:meth:`pairs` at the current positions (collective: the positions are gathered)."""
+        return self.pairs(self._positions())
+
     def pairs(self, x: np.ndarray):
         """The contacts of this rank's nodes: (node, segment, gap) arrays, by node and then
         segment.

@@ -68,3 +68,24 @@ def test_one_sealed_cavity_obeys_boyle_before_the_split():
 def test_bad_geometry_is_refused_naming_the_parameter(kwargs, word):
     with pytest.raises(ValueError, match=word):
         Params(**kwargs)
+
+
+@pytest.mark.mpi
+def test_the_sidewall_on_the_protuberance_is_the_split():
+    """At rest there is one chamber; a sidewall pushed just through the protuberance at its
+    equator splits it there: (Z_w, Z_b) within an element of the equator's height."""
+    import numpy as np
+
+    from bcfem.scenes.crater_double.model import DoubleCrater
+
+    model = DoubleCrater(Params(**COARSE), MPI.COMM_WORLD)
+    g = model.geometry
+    zc, h = g.centre_height, COARSE["size_contact"]
+    width = g.r0 - g.R0
+    with Problem(model.ctx, model.terms(), model.bcs, f"bcfem_test_split_{MPI.COMM_WORLD.size}_"):
+        assert model.sidewall_contact() is None
+        # the sidewall moved 1.05 times the gap inwards around the equator; the ball stays
+        model.u.interpolate(lambda x: np.vstack([-1.05 * width * np.clip((x[0] - g.R0) / width, 0, 1)
+                                                 * np.exp(-(((x[1] - zc) / 0.1) ** 2)), 0 * x[0]]))
+        Zw, Zb = model.sidewall_contact()
+    assert abs(Zw - zc) <= h and abs(Zb - zc) <= 2 * h
