@@ -1,7 +1,9 @@
 """The double-chamber crater's model (issue #24): the crater model on the double geometry.
 
 * one sealed cavity before the sidewall meets the protuberance: Boyle's law holds to solver
-  tolerance along a compression, the same on 1 and 2 ranks (marker ``mpi``);
+  tolerance along a compression, on a frictionless and a sticking plate, the same on 1 and
+  2 ranks (marker ``mpi``);
+* the split: none at rest, at the equator for a sidewall pushed through it;
 * bad geometry is refused before meshing, naming the parameter.
 """
 
@@ -20,12 +22,17 @@ COARSE = dict(size_wall=0.04, size_contact=0.01)
 STRAINS = (0.005, 0.01, 0.015)  # before the protuberance reaches the plate (about 0.02)
 
 
-def sealed_compression(comm) -> list[tuple[float, float]]:
-    """(p / p_a, V / V_rest) at each of STRAINS, the cavity sealed at p_a at rest."""
+def sealed_compression(comm, plate: str) -> tuple[list[tuple[float, float]], float]:
+    """(p / p_a, V / V_rest) at each of STRAINS, the cavity sealed at p_a at rest, and the
+    largest radial slip of the bottom face at the end."""
+    import numpy as np
+    from dolfinx import fem
+
+    from bcfem.geometry.double_crater import BOTTOM
     from bcfem.scenes.crater_double.model import DoubleCrater
     from bcfem.stepping import LoadPath
 
-    model = DoubleCrater(Params(**COARSE), comm)
+    model = DoubleCrater(Params(**COARSE, plate=plate), comm)
     rest = global_sum(model.volume)
     model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
     terms = model.terms(IdealGas(model.cavity, rest))
@@ -42,29 +49,42 @@ def sealed_compression(comm) -> list[tuple[float, float]]:
             return False
 
         path.through(0.0, STRAINS[-1], STRAINS[0], accept)
-    return states
+    V = model.u.function_space
+    bottom = fem.locate_dofs_topological(V, 1, model.facet_tags.find(BOTTOM))
+    slip = np.abs(model.u.x.array.reshape(-1, 2)[bottom, 0]).max(initial=0.0)
+    return states, comm.allreduce(float(slip), op=MPI.MAX)
 
 
 @functools.cache
-def serial():
-    return sealed_compression(MPI.COMM_SELF)
+def serial(plate):
+    return sealed_compression(MPI.COMM_SELF, plate)
 
 
 @pytest.mark.mpi
-def test_one_sealed_cavity_obeys_boyle_before_the_split():
-    states = sealed_compression(MPI.COMM_WORLD)
-    print("(p/p_a, V/V_rest):", states)
+@pytest.mark.parametrize("plate", ["frictionless", "sticking"])
+def test_one_sealed_cavity_obeys_boyle_before_the_split(plate):
+    """Boyle's law to solver tolerance; the bottom face slides on a frictionless plate and
+    stays put on a sticking one; 2 ranks give the serial numbers."""
+    states, slip = sealed_compression(MPI.COMM_WORLD, plate)
+    print(plate, "(p/p_a, V/V_rest):", states, "bottom slip:", slip)
     assert len(states) == len(STRAINS)
     volumes = [v for _, v in states]
     assert all(b < a for a, b in zip([1.0, *volumes], volumes))  # the cavity shrinks ...
     for p, v in states:
         assert p * v == pytest.approx(1.0, abs=1e-10)  # ... and its gas keeps p V = p_a V_rest
+    if plate == "sticking":
+        assert slip == 0.0
+    else:
+        assert slip > 1e-3  # the specimen spreads: about eps/2 of its radius at the rim
     if MPI.COMM_WORLD.size > 1:
-        assert [x for s in states for x in s] == pytest.approx([x for s in serial() for x in s], rel=1e-8)
+        reference, reference_slip = serial(plate)
+        assert [x for s in states for x in s] == pytest.approx([x for s in reference for x in s], rel=1e-8)
+        assert slip == pytest.approx(reference_slip, rel=1e-8, abs=1e-14)
 
 
 @pytest.mark.parametrize("kwargs, word", [({"gap": 0.0}, "gap"), ({"protuberance_radius": 0.6}, "protuberance"),
-                                          ({"gap": 0.5, "protuberance_radius": 0.2}, "protuberance_radius")])
+                                          ({"gap": 0.5, "protuberance_radius": 0.2}, "protuberance_radius"),
+                                          ({"plate": "glued"}, "plate")])
 def test_bad_geometry_is_refused_naming_the_parameter(kwargs, word):
     with pytest.raises(ValueError, match=word):
         Params(**kwargs)

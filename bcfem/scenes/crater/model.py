@@ -90,7 +90,7 @@ class Crater:
         self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
                       np.asarray(rmap).reshape(-1)[wall])
         self.mesh = msh
-        self.cell_tags = data.cell_tags
+        self.cell_tags, self.facet_tags = data.cell_tags, facets
 
     def terms(self, *fluid) -> list:
         """The solid, the wall's surface energy and self-contact (if any), the fluid, and the

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from bcfem.geometry.double_crater import WALLS, create_mesh
+from bcfem.bcs import component
+from bcfem.geometry.double_crater import BOTTOM, WALLS, create_mesh
 from bcfem.scenes.crater.model import Crater
 
 #: a wall node lies on a reference surface to this fraction of H (P2 nodes lie on it exactly)
@@ -19,6 +20,13 @@ class DoubleCrater(Crater):
 
     walls = WALLS
     create_mesh = staticmethod(create_mesh)
+
+    def _bcs(self, V, facets):
+        """The crater's, and no slip of the bottom face with ``plate='sticking'``."""
+        bcs = super()._bcs(V, facets)
+        if self.params.plate == "sticking":
+            bcs.append(component(V, 0, facets.find(BOTTOM)))
+        return bcs
 
     def sidewall_contact(self) -> tuple[float, float] | None:
         """The reference heights (Z_w, Z_b) of the sidewall's and the protuberance's points in

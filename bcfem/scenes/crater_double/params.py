@@ -14,6 +14,9 @@ from typing import ClassVar
 from bcfem.geometry.double_crater import CRATER_RADIUS, GAP, PROTUBERANCE_RADIUS, DoubleCraterGeometry
 from bcfem.params import require
 
+#: the bottom face's contact with the plate
+PLATES = ("frictionless", "sticking")
+
 
 @dataclass(frozen=True)
 class Params:
@@ -29,6 +32,8 @@ class Params:
             protuberance (and at the rims), over H.
         surface_energy: gamma / (mu r0) of the walls, in [0, 0.1].
         self_contact: the walls' self-contact penalty over mu / L, 0 or in [10, 1e4].
+        plate: the specimen's bottom face on the plate: 'frictionless' (it slides) or
+            'sticking' (no slip); the crater's walls on the plate slide either way.
         strain_step, max_snaps, waves: the load path's controls, as for ``crater``.
     """
 
@@ -41,6 +46,7 @@ class Params:
     size_contact: float = 0.005
     surface_energy: float = 0.0
     self_contact: float = 100.0
+    plate: str = "frictionless"
     strain_step: float = 0.01
     max_snaps: int = 24
     waves: int = 0
@@ -55,6 +61,7 @@ class Params:
         require(0 <= self.surface_energy <= 0.1, f"surface-energy must be in [0, 0.1] (got {self.surface_energy})")
         require(self.self_contact == 0 or 10 <= self.self_contact <= 1e4,
                 f"self-contact must be 0 (off) or in [10, 1e4] (got {self.self_contact})")
+        require(self.plate in PLATES, f"plate must be one of {list(PLATES)} (got {self.plate!r})")
         require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
         self.geometry()  # a protuberance that does not fit, s <= 0, R0 >= r0: ValueError naming it
 
