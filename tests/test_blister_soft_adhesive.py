@@ -206,3 +206,12 @@ def test_an_inverting_substrate_fails_with_a_clear_message(tmp_path):
     assert result.returncode == 1, result.stderr[-2000:]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "failed" and "substrate inverts" in summary["error"]
+
+
+@pytest.mark.serial
+def test_a_block_too_small_for_the_moving_front_exits_2_before_meshing(tmp_path):
+    out = tmp_path / "out"
+    result = bcfem("run", "blister-soft", "--edge", "adhesive", "--size-factor", "2", "--out", out)
+    assert result.returncode == 2, result.stderr
+    assert "size-factor" in result.stderr and "adhesive" in result.stderr
+    assert not out.exists()

@@ -73,8 +73,7 @@ class Model:
         self.ctx = Context(self.u)
         reference, self.rows, self.front = None, {}, None
         if params.edge == "adhesive":
-            R1, free, self.rows, self.restart_front = moving_front(self.ctx)
-            self.front = free
+            R1, self.front, self.rows, _ = moving_front(self.ctx)  # the front: 1 once released
             reference = material_coordinates(msh, R1, front_weight(msh, g.size_factor))
         solid = AxisymmetricSolid(self.u, quadrature_degree=4, facet_tags=facets, reference=reference)
         self.ctx.kin = solid
