@@ -60,8 +60,9 @@ class SealedFluid:
     def unknowns(self, ctx):
         """(pressure state, sealed volume constant ``<pressure_name>_sealed``: each pressure
         its own, so that several chambers, sealed apart, live in one model)."""
-        return (ctx.real_state(self.pressure_name),
-                ctx.constant(f"{self.pressure_name}_sealed", self.sealed_volume))
+        amount = ctx.constant(f"{self.pressure_name}_sealed")
+        amount.value = self.sealed_volume  # a fluid sealed again under the same name: its new amount
+        return ctx.real_state(self.pressure_name), amount
 
 
 class IdealGas(SealedFluid):

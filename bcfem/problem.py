@@ -60,7 +60,10 @@ class Problem:
         inverse_scale = fem.Constant(ctx.mesh, 1.0 / energy_scale)
         self.inverse_scale = inverse_scale
         self.bcs = list(bcs)
-        self.names = list(ctx.states)
+        # the states the terms use (a state left from another stage, e.g. the pressure of
+        # chambers since merged, would be an empty row)
+        used = {id(c) for c in ufl.algorithms.extract_coefficients(self.lagrangian)}
+        self.names = [n for n, s in ctx.states.items() if id(s) in used or n in rows or s is ctx.u]
         self.states = [ctx.states[n] for n in self.names]
         #: the Lagrange-multiplier states the terms declare, in state order; a state whose
         #: row is replaced (an arc-length load) is no multiplier of this problem

@@ -187,6 +187,12 @@ def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
     return run, run.summary
 
 
+def solve_rows(scene, comm) -> tuple[list[dict], dict]:
+    """:func:`solve` in memory: (the accepted rows, the summary)."""
+    solved, summary = solve(scene, comm)
+    return solved.rows, summary
+
+
 def time_split(timings: dict, wall: float) -> dict:
     """Where a run's wall time went: form assembly and discrete terms (self-contact) within
     Newton, the rest of Newton (linear solves, line search, convergence tests), stability

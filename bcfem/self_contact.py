@@ -106,6 +106,8 @@ class WallSelfContact:
 
     is_discrete = True
     name = "self_contact"
+    #: (node, segment) pairs held together whatever the gap's sign (:meth:`bond`)
+    bonded = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
 
     def __init__(self, facet_tags, boundary: int | tuple[int, ...], modulus: float, penalty: float = 1e3,
                  depth: float = 0.25):
@@ -258,6 +260,13 @@ class WallSelfContact:
         return _padded(np.minimum(start, end) + np.minimum(behind, 0.0),
                        np.maximum(start, end) + np.maximum(behind, 0.0))
 
+    def bond(self, nodes: np.ndarray, segments: np.ndarray) -> None:
+        """Hold these (owned node, segment) pairs together from now on: the penalty acts on
+        their gap to the segment's line in both directions (frictionless: the node slides
+        along it), so that the contact cannot open (non-separable contact)."""
+        self.bonded = (np.asarray(nodes, dtype=np.int64), np.asarray(segments, dtype=np.int64))
+        self._last_search = None
+
     def contacts(self):
         """:meth:`pairs` at the current positions (collective: the positions are gathered)."""
         return self.pairs(self._positions())
@@ -275,9 +284,21 @@ class WallSelfContact:
         last = getattr(self, "_last_search", None)
         if last is not None and last[1] is self.facing and np.array_equal(last[0], x):
             return last[2]
-        found = self._search(x)
+        found = self._with_bonds(x, *self._search(x))
         self._last_search = (x.copy(), self.facing, found)
         return found
+
+    def _with_bonds(self, x: np.ndarray, P: np.ndarray, S: np.ndarray, g: np.ndarray):
+        """The pairs found, and the bonded pairs not among them (with their gap, of either sign)."""
+        bP, bS = self.bonded
+        if bP.size == 0:
+            return P, S, g
+        new = ~np.isin(bP * len(self.segments) + bS, P * len(self.segments) + S)
+        bP, bS = bP[new], bS[new]
+        bg, _ = gap(x[bP], x[self.segments[bS, 0]], x[self.segments[bS, 1]])
+        P, S, g = np.concatenate([P, bP]), np.concatenate([S, bS]), np.concatenate([g, bg])
+        order = np.argsort(P * len(self.segments) + S, kind="stable")
+        return P[order], S[order], g[order]
 
     def _search(self, x: np.ndarray):
         """:meth:`pairs`, searched afresh."""

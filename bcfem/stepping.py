@@ -85,6 +85,7 @@ class LoadPath:
     unstable: int = 0
     unstable_waves: tuple = ()
     snaps: int = 0
+    bracket: tuple | None = None
 
     def solve_at(self, value: float, fallbacks: bool) -> bool:
         self.set_load(value)
@@ -174,7 +175,8 @@ class LoadPath:
         :meth:`mark` ``before`` (not passed) and the current state at load ``after`` (passed):
         ``bisections`` halvings of the bracket, or fewer if Newton cannot reach a midpoint (the
         event is then a snap inside the bracket). Each trial starts from the last state before
-        the event; the path ends at the first state found past it, whose load is returned."""
+        the event; the path ends at the first state found past it, whose load is returned.
+        ``bracket`` keeps the final (before, after) loads."""
         past = self.mark(after)
         for _ in range(bisections):
             low = self.rewind(before)
@@ -188,6 +190,7 @@ class LoadPath:
             else:
                 before = self.mark(middle)
         self.rewind(past)
+        self.bracket = (before["value"], after)
         return after
 
     def root(self, before: dict, after: float, function: Callable[[], float], xtol: float) -> float:

@@ -42,10 +42,9 @@ def build(params: Params, comm, model_class=None):
 def solve(params: Params, comm, model_class=None) -> tuple[list[dict], dict]:
     """One cycle in memory: (rows, summary). Raises :class:`bcfem.runner.SolveError` if it
     cannot be completed (the error's ``run`` holds the converged part)."""
-    from bcfem import runner
+    from bcfem.runner import solve_rows
 
-    solved, summary = runner.solve(build(params, comm, model_class), comm)
-    return solved.rows, summary
+    return solve_rows(build(params, comm, model_class), comm)
 
 
 def sweep_point(params: Params, comm) -> dict:
