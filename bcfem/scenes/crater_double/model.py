@@ -1,13 +1,23 @@
 """The crater model on the double-chamber geometry: the same terms, contact with the plate
 and self-contact, on a wall of three tagged parts (sidewall, roof, protuberance), so that
-the sidewall's contact with the protuberance is the wall's self-contact."""
+the sidewall's contact with the protuberance is the wall's self-contact.
+
+Its chambers (:mod:`bcfem.chambers`) are split where the sidewall first touches the
+protuberance. The fluid force on the specimen is that of the chamber on the plate: the
+pressure difference times the plate's wetted annulus, between the protuberance's footprint
+and the sidewall's edge (the chamber under the roof is enclosed by the specimen alone)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from dolfinx import fem
 
 from bcfem.bcs import component
-from bcfem.geometry.double_crater import BOTTOM, WALLS, create_mesh
+from bcfem.chambers import ChamberSplit
+from bcfem.geometry.double_crater import BOTTOM, OUTER, PROTUBERANCE, ROOF, SIDEWALL, WALLS, create_mesh
+from bcfem.mpi import global_sum
 from bcfem.scenes.crater.model import Crater
 
 #: a wall node lies on a reference surface to this fraction of H (P2 nodes lie on it exactly)
@@ -21,37 +31,84 @@ class DoubleCrater(Crater):
     walls = WALLS
     create_mesh = staticmethod(create_mesh)
 
+    def __init__(self, params, comm):
+        super().__init__(params, comm)
+        self.split = ChamberSplit(self.mesh, self.facet_tags, SIDEWALL, ROOF, PROTUBERANCE)
+        self.chambers = self.split.chambers()
+        self.chamber_volumes = [fem.form(c.volume(self.ctx.kin)) for c in self.chambers]
+        X = self._wall[0]
+        self._sidewall_nodes = self._on_sidewall(X) | (np.hypot(X[:, 0] - self.geometry.r0, X[:, 1])
+                                                       < ON_SURFACE * self.geometry.crater_height)
+        self._protuberance_nodes = self._on_protuberance(X)
+
     def _bcs(self, V, facets):
-        """The crater's, and no slip of the bottom face with ``plate='sticking'``."""
+        """The crater's; no slip of the bottom face with ``plate='sticking'``; the outer face on
+        rollers for the cell of an array (``cell='array'``)."""
         bcs = super()._bcs(V, facets)
         if self.params.plate == "sticking":
             bcs.append(component(V, 0, facets.find(BOTTOM)))
+        if self.params.cell == "array":
+            bcs.append(component(V, 0, facets.find(OUTER)))
         return bcs
+
+    def split_at(self, heights: tuple[float, float]) -> tuple[float, float]:
+        """Split the chambers at the reference heights (Z_w, Z_b) (snapped to wall vertices);
+        returns their current volumes (V_C1, V_C2)."""
+        self.split.move(*heights)
+        return self.chamber_volumes_now()
+
+    def chamber_volumes_now(self) -> tuple[float, float]:
+        return global_sum(self.chamber_volumes[0]), global_sum(self.chamber_volumes[1])
+
+    def open_radius(self) -> float:
+        """Where the sidewall leaves the plate (the rim, or above it once it rolls onto the plate)."""
+        return self.plate_edge(self._sidewall_nodes)
+
+    def footprint_radius(self) -> float:
+        """The radius of the protuberance's contact patch on the plate (0: off the plate)."""
+        return self.plate_edge(self._protuberance_nodes)
+
+    def wetted_area(self) -> float:
+        """The plate's area wetted by the chamber on it: pi (r_edge^2 - r_footprint^2)."""
+        return math.pi * (self.open_radius() ** 2 - self.footprint_radius() ** 2)
 
     def sidewall_contact(self) -> tuple[float, float] | None:
         """The reference heights (Z_w, Z_b) of the sidewall's and the protuberance's points in
         the deepest contact between the two (a node of one behind a segment of the other), or
         None: until then the cavity is one chamber. Contacts of the roof with the
         protuberance, where the roof folds onto it at the neck, do not split it (collective)."""
-        contact = self.self_contact
-        if contact is None:
-            raise ValueError("the chambers split by self-contact: self-contact must be on")
-        nodes, segments, gaps = contact.contacts()
-        X, ends = contact.X, contact.segments[segments]
-        side_node, side_segment = self._on_sidewall(X[nodes]), self._on_sidewall(X[ends[:, 0]]) & self._on_sidewall(
-            X[ends[:, 1]])
-        ball_node = self._on_protuberance(X[nodes])
-        ball_segment = self._on_protuberance(X[ends[:, 0]]) & self._on_protuberance(X[ends[:, 1]])
-        splits = (side_node & ball_segment) | (ball_node & side_segment)
-        heights = 0.5 * (X[ends[:, 0], 1] + X[ends[:, 1], 1])  # the segment's reference height
-        candidates = [(float(g), float(np.where(s, z_node, z_seg)), float(np.where(s, z_seg, z_node)))
-                      for g, s, z_node, z_seg in zip(gaps[splits], side_node[splits], X[nodes][splits, 1],
-                                                     heights[splits])]
+        X = self.self_contact.X
+        nodes, segments, gaps, side_node = self._split_contacts()
+        heights = X[self.self_contact.segments[segments]][:, :, 1].mean(axis=1)  # a segment's reference height
+        candidates = [(float(g), float(z_node) if s else float(z_seg), float(z_seg) if s else float(z_node))
+                      for g, s, z_node, z_seg in zip(gaps, side_node, X[nodes, 1], heights)]
         everyone = [c for part in self.mesh.comm.allgather(candidates) for c in part]
         if not everyone:
             return None
         _, Zw, Zb = min(everyone)
         return Zw, Zb
+
+    def bond_split(self) -> int:
+        """Hold the sidewall-protuberance contacts of this state together from now on (the
+        dissertation's non-separable contact); returns how many pairs (collective)."""
+        nodes, segments, _, _ = self._split_contacts()
+        self.self_contact.bond(nodes, segments)
+        return self.mesh.comm.allreduce(len(nodes))
+
+    def _split_contacts(self):
+        """This rank's contacts of a sidewall node with a protuberance segment or the reverse:
+        (nodes, segments, gaps, node on the sidewall)."""
+        contact = self.self_contact
+        if contact is None:
+            raise ValueError("the chambers split by self-contact: self-contact must be on")
+        nodes, segments, gaps = contact.contacts()
+        X, ends = contact.X, contact.segments[segments]
+        side_node = self._on_sidewall(X[nodes])
+        side_segment = self._on_sidewall(X[ends[:, 0]]) & self._on_sidewall(X[ends[:, 1]])
+        ball_node = self._on_protuberance(X[nodes])
+        ball_segment = self._on_protuberance(X[ends[:, 0]]) & self._on_protuberance(X[ends[:, 1]])
+        splits = (side_node & ball_segment) | (ball_node & side_segment)
+        return nodes[splits], segments[splits], gaps[splits], side_node[splits]
 
     def _on_sidewall(self, points: np.ndarray) -> np.ndarray:
         g = self.geometry

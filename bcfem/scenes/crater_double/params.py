@@ -1,76 +1,137 @@
-"""Parameters of the double-chamber crater (no dolfinx here).
+"""Parameters of the double-chamber crater and its CLI texts (no dolfinx here).
 
 Lengths are in units of the crater height H, pressures in p_a (beta = mu / p_a); the
 defaults are the dissertation's design (section 9.3): r0 = 0.52 H, R0 = 0.5 H, s = 0.03 H,
-mu = p_a.
+mu = p_a, a preload of 0.14.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
-from bcfem.geometry.double_crater import CRATER_RADIUS, GAP, PROTUBERANCE_RADIUS, DoubleCraterGeometry
+from bcfem.geometry.double_crater import (
+    CRATER_RADIUS,
+    GAP,
+    PROTUBERANCE_RADIUS,
+    SPECIMEN_HEIGHT,
+    SPECIMEN_RADIUS,
+    DoubleCraterGeometry,
+)
 from bcfem.params import require
+
+SUMMARY = "double-chamber crater (a protuberance splits the cavity by contact): the suction cycle (ch. 9)"
+DESCRIPTION = """\
+A neo-Hookean specimen (nearly incompressible, Taylor-Hood u-p) with a
+cylindrical crater in its bottom face, from whose roof a spherical protuberance
+hangs, is pressed on a rigid plate to the preload (stage 'load') and unloaded
+to eps = 0 (stage 'unload', as the dissertation's Step 2). The rows' column
+'chambers' says whether the cavity is one chamber or split in two.
+
+The crater is sealed at rest (--seal rest: the dissertation's chambers start at
+p_a with no vent) or vented while loading and sealed at the preload (--seal
+preload, chapter 7). One cavity holds the fluid until the sidewall touches the
+protuberance; the cavity then splits into C1 (on the plate) and C2 (under the
+roof), each sealed with its own fluid: p_i V_i = const (air), V_i = const
+(liquid). With --contact separable the chambers merge, their fluid pooled,
+where the contact opens; --contact bonded keeps the touching points together
+(the dissertation's non-separable contact). Split and merge are located by
+bisection in eps and reported.
+
+Units and normalisations:
+  lengths        over the crater height H; pressures over p_a; beta = mu / p_a
+  preload eps    = -dL / L of the specimen
+  V_c1, V_c2     chamber volumes over the cavity's volume at rest V0
+  F_tilde        = (p_a - p_c1) A_c1 / (p_a A0), A0 = pi r0^2: the net fluid force on
+                   the specimen (C2 is enclosed by the specimen and pulls on nothing
+                   outside it); A_c1 is the plate's area wetted by C1
+PETSc prefixes: bcfem_crater_double_load_ and bcfem_crater_double_unload_."""
 
 #: the bottom face's contact with the plate
 PLATES = ("frictionless", "sticking")
+#: the specimen's outer face: free (one crater) or on rollers (the cell of a confined array)
+CELLS = ("isolated", "array")
+FLUID_NAMES = ("air", "liquid")
+SEALS = ("rest", "preload")
+CONTACTS = ("separable", "bonded")
+#: the columns of ``branch.csv``
+COLUMNS = ["stage", "eps", "chambers", "p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "A_c1_over_A0", "F_tilde",
+           "fluid_law_residual"]
+
+
+def _help(text: str, unit: str = "1", choices=None) -> dict:
+    return {"help": text, "unit": unit, **({"choices": choices} if choices else {})}
 
 
 @dataclass(frozen=True)
 class Params:
-    """The specimen, its material and the load path's controls.
+    """Parameters of ``crater-double``; each field's help and unit are in its metadata (``--help``)."""
 
-    Attributes:
-        crater_radius: r0 / H.
-        protuberance_radius: R0 / H (< r0 / H).
-        gap: s / H, the protuberance's lowest point above the plate, in (0, 1).
-        beta: mu / p_a.
-        kappa_ratio: bulk over shear modulus, in [10, 1e8].
-        size_wall, size_contact: element sizes on the walls and where the sidewall meets the
-            protuberance (and at the rims), over H.
-        surface_energy: gamma / (mu r0) of the walls, in [0, 0.1].
-        self_contact: the walls' self-contact penalty over mu / L, 0 or in [10, 1e4].
-        plate: the specimen's bottom face on the plate: 'frictionless' (it slides) or
-            'sticking' (no slip); the crater's walls on the plate slide either way.
-        strain_step, max_snaps, waves: the load path's controls, as for ``crater``.
-    """
+    preload: float = field(default=0.14, metadata=_help("eps = -dL/L at the end of loading, in (0, 0.9)"))
+    fluid: str = field(default="air", metadata=_help(
+        "air (ideal gas, p V = const in each chamber) or liquid (incompressible, V = const)", "", FLUID_NAMES))
+    seal: str = field(default="rest", metadata=_help(
+        "when the crater is sealed: at rest (the dissertation) or at the preload (vented loading)", "", SEALS))
+    contact: str = field(default="separable", metadata=_help(
+        "sidewall-protuberance contact: separable (the chambers merge where it opens) or bonded "
+        "(the first touching points stay together, frictionless, as the dissertation's)", "", CONTACTS))
+    plate: str = field(default="sticking", metadata=_help(
+        "the bottom face on the plate: frictionless (slides) or sticking (no slip); the crater's "
+        "walls on the plate slide either way", "", PLATES))
+    cell: str = field(default="isolated", metadata=_help(
+        "the specimen's outer face: isolated (free) or array (on rollers: the axisymmetric cell of a "
+        "laterally confined array of craters at spacing 2 x specimen-radius)", "", CELLS))
+    crater_radius: float = field(default=CRATER_RADIUS, metadata=_help("r0 / H, > R0 / H"))
+    protuberance_radius: float = field(default=PROTUBERANCE_RADIUS, metadata=_help(
+        "R0 / H, in ((1 - s/H) / 2, r0/H): the ball reaches the roof and leaves a gap to the sidewall"))
+    gap: float = field(default=GAP, metadata=_help("s / H, the protuberance above the plate, in (0, 1)"))
+    specimen_radius: float = field(default=SPECIMEN_RADIUS, metadata=_help("specimen radius over r0, > 1"))
+    specimen_height: float = field(default=SPECIMEN_HEIGHT, metadata=_help("specimen height over H, > 1"))
+    beta: float = field(default=1.0, metadata=_help("mu / p_a, > 0"))
+    kappa_ratio: float = field(default=1e4, metadata=_help("bulk over shear modulus, in [10, 1e8]"))
+    size_wall: float = field(default=0.02, metadata=_help("element size on the walls over H, in (0, 0.25]"))
+    size_contact: float = field(default=0.005, metadata=_help(
+        "element size where the sidewall meets the protuberance and at the rims over H, in (0, size-wall]"))
+    surface_energy: float = field(default=0.01, metadata=_help(
+        "gamma / (mu r0) of the walls, in [0, 0.1]: gives the roof's fold onto the protuberance a "
+        "length scale"))
+    self_contact: float = field(default=100.0, metadata=_help(
+        "penalty of the walls' self-contact over mu/L (L: node spacing on the wall), in [10, 1e4]"))
+    strain_step: float = field(default=0.01, metadata=_help(
+        "platen strain between checkpoints, in (0, 0.1] (failed steps are halved)"))
+    max_snaps: int = field(default=24, metadata=_help(
+        "snaps (steps passed by pseudo-time relaxation) allowed per stage, 0 to 1000", ""))
 
-    crater_radius: float = CRATER_RADIUS
-    protuberance_radius: float = PROTUBERANCE_RADIUS
-    gap: float = GAP
-    beta: float = 1.0
-    kappa_ratio: float = 1e4
-    size_wall: float = 0.02
-    size_contact: float = 0.005
-    surface_energy: float = 0.0
-    self_contact: float = 100.0
-    plate: str = "frictionless"
-    strain_step: float = 0.01
-    max_snaps: int = 24
-    waves: int = 0
-
-    #: no lining (the crater model's reinforcement layer)
+    #: no lining (the crater model's reinforcement layer) and no wave check
     layer_thickness: ClassVar[float] = 0.0
     layer_stiffness: ClassVar[float] = 1.0
+    waves: ClassVar[int] = 0
+    BUDGETS: ClassVar[tuple] = ("max_snaps",)
 
     def __post_init__(self):
+        require(0 < self.preload < 0.9, f"preload must be in (0, 0.9) (got {self.preload})")
+        for name, choices in (("fluid", FLUID_NAMES), ("seal", SEALS), ("contact", CONTACTS),
+                              ("plate", PLATES), ("cell", CELLS)):
+            require(getattr(self, name) in choices, f"{name} must be one of {list(choices)} "
+                    f"(got {getattr(self, name)!r})")
         require(self.beta > 0 and math.isfinite(self.beta), f"beta must be > 0 (got {self.beta})")
         require(10 <= self.kappa_ratio <= 1e8, f"kappa-ratio must be in [10, 1e8] (got {self.kappa_ratio})")
         require(0 <= self.surface_energy <= 0.1, f"surface-energy must be in [0, 0.1] (got {self.surface_energy})")
-        require(self.self_contact == 0 or 10 <= self.self_contact <= 1e4,
-                f"self-contact must be 0 (off) or in [10, 1e4] (got {self.self_contact})")
-        require(self.plate in PLATES, f"plate must be one of {list(PLATES)} (got {self.plate!r})")
+        require(10 <= self.self_contact <= 1e4, f"self-contact must be in [10, 1e4] (got {self.self_contact}): "
+                "the chambers split by it")
+        require(0 < self.size_wall <= 0.25, f"size-wall must be in (0, 0.25] (got {self.size_wall})")
         require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
+        require(self.max_snaps == int(self.max_snaps) and 0 <= self.max_snaps <= 1000,
+                f"max-snaps must be an integer in [0, 1000] (got {self.max_snaps})")
+        require(self.specimen_radius > 1, f"specimen-radius (over r0) must be > 1 (got {self.specimen_radius})")
+        require(self.specimen_height > 1, f"specimen-height (over H) must be > 1 (got {self.specimen_height})")
         self.geometry()  # a protuberance that does not fit, s <= 0, R0 >= r0: ValueError naming it
 
     def geometry(self) -> DoubleCraterGeometry:
         return DoubleCraterGeometry(crater_height=1.0, crater_radius=self.crater_radius,
                                     protuberance_radius=self.protuberance_radius, gap=self.gap,
-                                    size_wall=self.size_wall, size_contact=self.size_contact,
-                                    size_corner=self.size_contact, size_far=max(0.25, self.size_wall))
-
-    @property
-    def specimen_height(self) -> float:
-        return self.geometry().specimen_height
+                                    radius=self.specimen_radius * self.crater_radius,
+                                    height=self.specimen_height, size_wall=self.size_wall,
+                                    size_contact=self.size_contact, size_corner=self.size_contact,
+                                    size_far=max(0.25, self.size_wall))

@@ -1,0 +1,218 @@
+r"""The double-chamber crater's cycle: declared stages ``load`` and ``unload``, each followed
+with the chambers as they are, which change where the sidewall touches the protuberance
+(split) or leaves it (merge).
+
+Each chamber's fluid is a term of its own (:mod:`bcfem.fluids`) in its volume
+(:mod:`bcfem.chambers`): with one chamber the whole cavity holds amount n (p V = n for air,
+V = n for a liquid); at a split, located by bisection in eps, C1 and C2 take the amounts
+p V_C1 and p V_C2 of that state; at a merge, the sum. Every topology change starts a new
+problem on the same states; the rows carry the number of chambers. The platen returns to
+eps = 0, as in the dissertation (its Step 2).
+"""
+
+from __future__ import annotations
+
+import math
+
+from bcfem.fluids import FLUIDS
+from bcfem.log import progress
+from bcfem.mpi import global_sum, real_value
+from bcfem.scenes.crater.report import classify
+from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
+from bcfem.scenes.crater_double.model import DoubleCrater
+from bcfem.scenes.crater_double.params import COLUMNS, Params
+from bcfem.stepping import LoadPath, SteppingError
+
+#: halvings of the step that brackets a split or a merge
+BISECTIONS = 12
+#: the pressure states of one cavity, and of the chambers C1 and C2
+ONE, C1, C2 = "fluid_pressure", "p_c1", "p_c2"
+
+
+class DoubleCraterCycle:
+    """The scene ``crater-double``: :class:`DoubleCrater` pressed to the preload and unloaded
+    to eps = 0 (:mod:`bcfem.runner` solves it)."""
+
+    name = "crater-double"
+    stages = ("load", "unload")
+    columns = COLUMNS
+
+    def __init__(self, params: Params, comm, model_class: type[DoubleCrater] = DoubleCrater):
+        self.params, self.comm, self.model_class = params, comm, model_class
+        self.model: DoubleCrater | None = None
+        self.shapes: list[dict] = []
+
+    # -- the chambers ---------------------------------------------------------------------
+    def _fluids(self) -> list:
+        """The sealed fluids of the chambers as they are (none while vented)."""
+        if not self.sealed:
+            return []
+        fluid = FLUIDS[self.params.fluid]
+        if len(self.amounts) == 1:
+            return [fluid(self.model.cavity, self.amounts[0], ONE)]
+        return [fluid(chamber, n, name) for chamber, n, name in zip(self.model.chambers, self.amounts, (C1, C2))]
+
+    def pressures(self) -> tuple[float, float]:
+        """(p_c1, p_c2) / p_a; one cavity: its pressure twice."""
+        if not self.sealed:
+            return 1.0, 1.0
+        states = self.model.ctx.states
+        if len(self.amounts) == 1:
+            p = real_value(states[ONE])
+            return p, p
+        return real_value(states[C1]), real_value(states[C2])
+
+    def volumes(self) -> tuple[float, float]:
+        """(V_C1, V_C2); one cavity: (V, 0)."""
+        if self.chambers == 1:
+            return global_sum(self.model.volume), 0.0
+        return self.model.chamber_volumes_now()
+
+    def _amount(self, p: float, V: float) -> float:
+        return p * V if self.params.fluid == "air" else V
+
+    def _set_pressures(self, values) -> None:
+        names = (ONE,) if len(values) == 1 else (C1, C2)
+        for name, p in zip(names, values):
+            self.model.ctx.real_state(name).x.array[:] = p
+
+    def _seal(self) -> None:
+        """Seal each chamber with its fluid at p_a (the vented loading's end)."""
+        self.sealed = True
+        V = self.volumes()[: self.chambers]
+        self.amounts = [self._amount(1.0, v) for v in V]
+        self._set_pressures([1.0] * self.chambers)
+
+    def _split(self, eps: float, heights) -> dict:
+        model = self.model
+        p = self.pressures()[0]
+        V1, V2 = model.split_at(heights)
+        self.chambers = 2
+        if self.sealed:
+            self.amounts = [self._amount(p, V1), self._amount(p, V2)]
+            self._set_pressures([p, p])
+        bonded = model.bond_split() if self.params.contact == "bonded" else 0
+        Zw, Zb = (float(model.split.sidewall_height.value), float(model.split.protuberance_height.value))
+        return {"eps": eps, "p_over_pa": p, "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "Z_sidewall": Zw,
+                "Z_protuberance": Zb, **({"bonded_pairs": bonded} if bonded else {})}
+
+    def _merge(self, eps: float) -> dict:
+        (p1, p2), (V1, V2) = self.pressures(), self.volumes()
+        self.chambers = 1
+        if self.sealed:
+            self.amounts = [sum(self.amounts)]
+            self._set_pressures([(p1 * V1 + p2 * V2) / (V1 + V2)])
+        return {"eps": eps, "p_c1_over_pa": p1, "p_c2_over_pa": p2, "V_c1": V1 / self.V0, "V_c2": V2 / self.V0}
+
+    def _changed(self) -> bool:
+        """The sidewall touches the protuberance (one chamber) or left it (two, separable)."""
+        touching = self.model.sidewall_contact() is not None
+        return touching if self.chambers == 1 else (not touching and self.params.contact == "separable")
+
+    # -- observables ----------------------------------------------------------------------
+    def observe(self, stage: str, eps: float) -> dict:
+        (p1, p2), (V1, V2) = self.pressures(), self.volumes()
+        A = self.model.wetted_area() / self.A0
+        row = {"stage": stage, "eps": eps, "chambers": self.chambers, "p_c1_over_pa": p1, "p_c2_over_pa": p2,
+               "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "A_c1_over_A0": A, "F_tilde": (1 - p1) * A}
+        if self.sealed:  # each fluid's law: p V = n (air) or V = n (liquid)
+            laws = [(p if self.params.fluid == "air" else 1.0) * V / n - 1
+                    for p, V, n in zip((p1, p2), (V1, V2), self.amounts)]
+            row["fluid_law_residual"] = max(abs(r) for r in laws)
+        return row
+
+    def _shape(self, label: str, eps: float) -> None:
+        """Keep the walls' current nodes for the deformed-shape figure."""
+        contact = self.model.self_contact
+        self.shapes.append({"label": label, "eps": eps, "x": contact._positions().copy(),
+                            "segments": contact.segments})
+
+    # -- the path -------------------------------------------------------------------------
+    def solve(self, run) -> None:
+        params = self.params
+        model = self.model = self.model_class(params, self.comm)
+        run.watch([model.u])
+        self.V0 = global_sum(model.volume)
+        self.A0 = math.pi * model.geometry.r0**2
+        self.chambers, self.sealed = 1, params.seal == "rest"
+        self.amounts = [self._amount(1.0, self.V0)]
+        self._set_pressures([1.0])
+        self.events: list[dict] = []
+        self.topology: list[dict] = []
+        run.results.update(instabilities=self.events, split=None, merge=None)
+        run.record(self.observe("load", 0.0))
+        self._leg(run, "load", 0.0, params.preload)
+        self._shape("preload", params.preload)
+        if not self.sealed:
+            self._seal()
+        self._leg(run, "unload", params.preload, 0.0)
+        self._shape("unloaded", 0.0)
+        self._finish(run)
+
+    def _leg(self, run, stage: str, start: float, end: float) -> None:
+        """From ``start`` to ``end`` with the chambers as they are; at a topology change, a
+        bisection locates it and a new problem goes on from there."""
+        params, model = self.params, self.model
+        fresh = False  # a merge pools the fluids: the state there must first be re-solved
+        while True:
+            kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
+            with run.stage(stage, model.ctx, model.terms(*self._fluids()), model.bcs,
+                           {"snes_type": "vinewtonrsls"}, **kwargs) as problem:
+                model.contact_bounds(problem)
+                path = LoadPath(problem, model.set_platen, stage, model.viscosity,
+                                params.beta / model.geometry.r0**2, events=self.events,
+                                max_snaps=params.max_snaps, load_name="eps")
+                if fresh:
+                    if not path.solve_at(start, fallbacks=True):
+                        raise SteppingError(f"{stage}: no equilibrium after the chambers merged at eps = "
+                                            f"{start:.6g}: {problem.failure()}", start)
+                    run.record(self.observe(stage, start))
+                path.start()
+                if not self.shapes:  # the walls are known to the self-contact once bound
+                    self._shape("rest", start)
+                before = path.mark(start)
+
+                def accept(eps):
+                    if self._changed():
+                        return True
+                    run.record(self.observe(stage, eps))
+                    before.update(path.mark(eps))
+                    return False
+
+                reached = path.through(start, end, params.strain_step, accept)
+                if not self._changed():
+                    return
+                eps = path.bisect(before, reached, lambda _: self._changed(), BISECTIONS)
+                bracket = abs(path.bracket[1] - path.bracket[0])
+                if self.chambers == 1:
+                    event = {"stage": stage, "kind": "split", "bracket": bracket,
+                             **self._split(eps, model.sidewall_contact())}
+                    run.results["split"] = run.results["split"] or event
+                    fresh = False
+                else:
+                    event = {"stage": stage, "kind": "merge", "bracket": bracket, **self._merge(eps)}
+                    run.results["merge"] = run.results["merge"] or event
+                    fresh = True
+                self.topology.append(event)
+                progress(f"{stage}: chambers {event['kind']} at eps = {eps:.6g}")
+                self._shape(event["kind"], eps)
+                if not fresh:
+                    run.record(self.observe(stage, eps))
+                start = eps
+
+    def _finish(self, run) -> None:
+        final = run.rows[-1]
+        split = run.results["split"]
+        run.results.update({
+            "eps_contact": split["eps"] if split else None,
+            "p_c1_over_pa": final["p_c1_over_pa"], "p_c2_over_pa": final["p_c2_over_pa"],
+            "V_c1": final["V_c1"], "V_c2": final["V_c2"], "F_tilde": final["F_tilde"],
+            "F_tilde_per_chamber": {"C1": final["F_tilde"], "C2": 0.0 if final["chambers"] == 2 else None},
+            "chamber_events": self.topology, "stability": classify(self.events),
+            "fluid_law_residual": max((r.get("fluid_law_residual", 0.0) for r in run.rows), default=0.0),
+            "V0": self.V0})
+
+    def figures(self, rows, summary) -> dict:
+        from bcfem.scenes.crater_double.report import plot_cycle, plot_shapes
+
+        return {"cycle.png": plot_cycle(rows, summary), "shapes.png": plot_shapes(self.shapes)}

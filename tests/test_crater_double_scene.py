@@ -1,0 +1,108 @@
+"""The scene ``crater-double`` (issue #24): the chambers as state along a cycle.
+
+A coarse cell of a confined array (outer face on rollers, radius 2 r0, height 2 H), where the
+sidewall reaches the protuberance at eps ~ 0.012:
+
+* one cavity before the split obeys Boyle's law; the split is located to the bisection's
+  bracket; after it, each chamber keeps its own gas (p_i V_i = const) and the two pressures
+  part; at the merge on unloading the gas is pooled, its total conserved;
+* bonded contact keeps the chambers apart down to eps = 0;
+* a liquid sealed at the preload keeps each chamber's volume;
+* ``mpirun -n 2`` gives the serial cycle (marker ``mpi``);
+* (bonded, liquid and two ranks are marked ``slow``: ``make test-all``);
+* bad input exits 2 before meshing.
+"""
+
+import functools
+import subprocess
+import sys
+
+from mpi4py import MPI
+
+import pytest
+
+from bcfem.scenes import crater_double
+from bcfem.scenes.crater_double.stages import BISECTIONS
+
+CELL = dict(cell="array", specimen_radius=2.0, specimen_height=2.0, size_wall=0.08, size_contact=0.02,
+            preload=0.0125, strain_step=0.005)
+
+
+@functools.cache
+def cycle(comm=MPI.COMM_SELF, **changes):
+    return crater_double.solve(crater_double.Params(**{**CELL, **changes}), comm)
+
+
+def test_split_and_merge_conserve_each_chambers_gas():
+    rows, summary = cycle()
+    split, merge = summary["split"], summary["merge"]
+    print("split:", split, "\nmerge:", merge)
+    # located to the bisection's bracket: a step of at most strain_step / 2 halved BISECTIONS times
+    assert 0.01 < split["eps"] < CELL["preload"] and split["bracket"] <= CELL["strain_step"] * 2.0**-BISECTIONS
+    assert merge is not None and merge["bracket"] <= CELL["strain_step"] * 2.0**-BISECTIONS
+    one = [r for r in rows if r["chambers"] == 1]
+    two = [r for r in rows if r["chambers"] == 2]
+    assert len(two) >= 2 and {r["stage"] for r in two} == {"load"}
+    # p V = n in every chamber at every state, to solver tolerance
+    assert max(r["fluid_law_residual"] for r in rows) < 1e-8
+    for r in one:  # one cavity sealed at rest: p V = V0
+        assert r["p_c1_over_pa"] * r["V_c1"] == pytest.approx(1.0, abs=1e-8)
+    at_split = two[0]
+    assert at_split["p_c1_over_pa"] == at_split["p_c2_over_pa"]
+    assert at_split["V_c1"] + at_split["V_c2"] == pytest.approx(1 / at_split["p_c1_over_pa"], rel=1e-8)
+    amounts = (at_split["p_c1_over_pa"] * at_split["V_c1"], at_split["p_c2_over_pa"] * at_split["V_c2"])
+    for r in two:
+        assert (r["p_c1_over_pa"] * r["V_c1"], r["p_c2_over_pa"] * r["V_c2"]) == pytest.approx(amounts, rel=1e-8)
+    assert two[-1]["p_c1_over_pa"] - two[-1]["p_c2_over_pa"] > 1e-4  # sealed apart, the pressures part
+    # the merge pools the gas: its total is that of the two chambers
+    after = next(r for r in rows if r["stage"] == "unload" and r["chambers"] == 1)
+    pooled = merge["p_c1_over_pa"] * merge["V_c1"] + merge["p_c2_over_pa"] * merge["V_c2"]
+    assert after["p_c1_over_pa"] * after["V_c1"] == pytest.approx(pooled, rel=1e-8)
+    assert pooled == pytest.approx(1.0, rel=1e-8)  # and the one cavity's, sealed at rest
+    assert rows[-1]["eps"] == 0.0 and summary["F_tilde"] == rows[-1]["F_tilde"]
+
+
+@pytest.mark.slow
+def test_bonded_contact_keeps_the_chambers_apart():
+    rows, summary = cycle(contact="bonded")
+    assert summary["merge"] is None and rows[-1]["eps"] == 0.0 and rows[-1]["chambers"] == 2
+    assert summary["split"]["bonded_pairs"] >= 1
+    assert max(r["fluid_law_residual"] for r in rows) < 1e-8
+    # unloaded with the contact held, the chambers end at pressures of their own
+    assert abs(summary["p_c1_over_pa"] - summary["p_c2_over_pa"]) > 1e-3
+    assert summary["F_tilde_per_chamber"] == {"C1": summary["F_tilde"], "C2": 0.0}
+
+
+@pytest.mark.slow
+def test_a_liquid_keeps_each_chambers_volume():
+    rows, summary = cycle(fluid="liquid", seal="preload")
+    sealed = [r for r in rows if r["stage"] == "unload"]
+    assert summary["split"] is not None and all(r["chambers"] == 2 for r in sealed)
+    for key in ("V_c1", "V_c2"):
+        assert max(r[key] for r in sealed) - min(r[key] for r in sealed) < 1e-8
+    # vented while loading: both chambers at p_a until sealed
+    assert all(r["p_c1_over_pa"] == r["p_c2_over_pa"] == 1.0 for r in rows if r["stage"] == "load")
+
+
+@pytest.mark.mpi
+@pytest.mark.slow
+def test_two_ranks_equal_serial():
+    if MPI.COMM_WORLD.size == 1:
+        pytest.skip("needs mpirun -n 2")
+    rows, summary = crater_double.solve(crater_double.Params(**CELL), MPI.COMM_WORLD)
+    reference, reference_summary = cycle()
+    assert [r["chambers"] for r in rows] == [r["chambers"] for r in reference]
+    assert summary["split"]["eps"] == reference_summary["split"]["eps"]
+    assert summary["merge"]["eps"] == reference_summary["merge"]["eps"]
+    for key in ("p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "F_tilde"):
+        assert [r[key] for r in rows] == pytest.approx([r[key] for r in reference], rel=1e-8, abs=1e-10)
+
+
+@pytest.mark.parametrize("args, word", [(["--gap", "0"], "gap"), (["--protuberance-radius", "0.6"], "protuberance"),
+                                        (["--preload", "0.95"], "preload"), (["--cell", "hex"], "cell"),
+                                        (["--specimen-radius", "0.5"], "specimen-radius")])
+def test_bad_input_exits_2_naming_it(tmp_path, args, word):
+    done = subprocess.run([sys.executable, "-m", "bcfem", "run", "crater-double", *args, "--out", str(tmp_path)],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and word in done.stderr
+    assert not any(tmp_path.iterdir())
