@@ -44,12 +44,14 @@ def test_split_and_merge_conserve_each_chambers_gas():
     two = [r for r in rows if r["chambers"] == 2]
     assert len(two) >= 2 and {r["stage"] for r in two} == {"load"}
     # p V = n in every chamber at every state, to solver tolerance
-    assert max(r["fluid_law_residual"] for r in rows) < 1e-8
-    for r in one:  # one cavity sealed at rest: p V = V0
-        assert r["p_c1_over_pa"] * r["V_c1"] == pytest.approx(1.0, abs=1e-8)
+    assert max(r["fluid_law_residual"] or 0.0 for r in rows) < 1e-8
+    rest = rows[0]  # settled on the plate at p_a (the walls' surface energy shrinks it a little)
+    assert rest["eps"] == 0.0 and rest["p_c1_over_pa"] == 1.0 and 0.99 < rest["V_c1"] < 1
+    for r in one:  # one cavity sealed there: p V = V_rest
+        assert r["p_c1_over_pa"] * r["V_c1"] == pytest.approx(rest["V_c1"], rel=1e-8)
     at_split = two[0]
     assert at_split["p_c1_over_pa"] == at_split["p_c2_over_pa"]
-    assert at_split["V_c1"] + at_split["V_c2"] == pytest.approx(1 / at_split["p_c1_over_pa"], rel=1e-8)
+    assert at_split["V_c1"] + at_split["V_c2"] == pytest.approx(rest["V_c1"] / at_split["p_c1_over_pa"], rel=1e-8)
     amounts = (at_split["p_c1_over_pa"] * at_split["V_c1"], at_split["p_c2_over_pa"] * at_split["V_c2"])
     for r in two:
         assert (r["p_c1_over_pa"] * r["V_c1"], r["p_c2_over_pa"] * r["V_c2"]) == pytest.approx(amounts, rel=1e-8)
@@ -58,7 +60,7 @@ def test_split_and_merge_conserve_each_chambers_gas():
     after = next(r for r in rows if r["stage"] == "unload" and r["chambers"] == 1)
     pooled = merge["p_c1_over_pa"] * merge["V_c1"] + merge["p_c2_over_pa"] * merge["V_c2"]
     assert after["p_c1_over_pa"] * after["V_c1"] == pytest.approx(pooled, rel=1e-8)
-    assert pooled == pytest.approx(1.0, rel=1e-8)  # and the one cavity's, sealed at rest
+    assert pooled == pytest.approx(rest["V_c1"], rel=1e-8)  # and the one cavity's, sealed at rest
     assert rows[-1]["eps"] == 0.0 and summary["F_tilde"] == rows[-1]["F_tilde"]
 
 
@@ -67,7 +69,7 @@ def test_bonded_contact_keeps_the_chambers_apart():
     rows, summary = cycle(contact="bonded")
     assert summary["merge"] is None and rows[-1]["eps"] == 0.0 and rows[-1]["chambers"] == 2
     assert summary["split"]["bonded_pairs"] >= 1
-    assert max(r["fluid_law_residual"] for r in rows) < 1e-8
+    assert max(r["fluid_law_residual"] or 0.0 for r in rows) < 1e-8
     # unloaded with the contact held, the chambers end at pressures of their own
     assert abs(summary["p_c1_over_pa"] - summary["p_c2_over_pa"]) > 1e-3
     assert summary["F_tilde_per_chamber"] == {"C1": summary["F_tilde"], "C2": 0.0}

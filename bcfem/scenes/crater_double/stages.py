@@ -114,7 +114,8 @@ class DoubleCraterCycle:
         (p1, p2), (V1, V2) = self.pressures(), self.volumes()
         A = self.model.wetted_area() / self.A0
         row = {"stage": stage, "eps": eps, "chambers": self.chambers, "p_c1_over_pa": p1, "p_c2_over_pa": p2,
-               "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "A_c1_over_A0": A, "F_tilde": (1 - p1) * A}
+               "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "A_c1_over_A0": A, "F_tilde": (1 - p1) * A,
+               "fluid_law_residual": None}
         if self.sealed:  # each fluid's law: p V = n (air) or V = n (liquid)
             laws = [(p if self.params.fluid == "air" else 1.0) * V / n - 1
                     for p, V, n in zip((p1, p2), (V1, V2), self.amounts)]
@@ -134,13 +135,15 @@ class DoubleCraterCycle:
         run.watch([model.u])
         self.V0 = global_sum(model.volume)
         self.A0 = math.pi * model.geometry.r0**2
-        self.chambers, self.sealed = 1, params.seal == "rest"
-        self.amounts = [self._amount(1.0, self.V0)]
-        self._set_pressures([1.0])
+        self.chambers, self.sealed = 1, False
         self.events: list[dict] = []
         self.topology: list[dict] = []
         run.results.update(instabilities=self.events, split=None, merge=None)
-        run.record(self.observe("load", 0.0))
+        # on the plate at ambient pressure (the walls' surface energy deforms them a little),
+        # then sealed there, or vented while loading
+        self._leg(run, "load", 0.0, 0.0, settle=True)
+        if params.seal == "rest":
+            self._seal()
         self._leg(run, "load", 0.0, params.preload)
         self._shape("preload", params.preload)
         if not self.sealed:
@@ -149,11 +152,12 @@ class DoubleCraterCycle:
         self._shape("unloaded", 0.0)
         self._finish(run)
 
-    def _leg(self, run, stage: str, start: float, end: float) -> None:
+    def _leg(self, run, stage: str, start: float, end: float, settle: bool = False) -> None:
         """From ``start`` to ``end`` with the chambers as they are; at a topology change, a
-        bisection locates it and a new problem goes on from there."""
+        bisection locates it and a new problem goes on from there. ``settle``: solve and
+        record the state at ``start`` first."""
         params, model = self.params, self.model
-        fresh = False  # a merge pools the fluids: the state there must first be re-solved
+        fresh = settle  # also after a merge, which pools the fluids: the state must be re-solved
         while True:
             kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
             with run.stage(stage, model.ctx, model.terms(*self._fluids()), model.bcs,
@@ -164,8 +168,9 @@ class DoubleCraterCycle:
                                 max_snaps=params.max_snaps, load_name="eps")
                 if fresh:
                     if not path.solve_at(start, fallbacks=True):
-                        raise SteppingError(f"{stage}: no equilibrium after the chambers merged at eps = "
-                                            f"{start:.6g}: {problem.failure()}", start)
+                        raise SteppingError(f"{stage}: no equilibrium at eps = {start:.6g} "
+                                            f"({'chambers merged' if self.topology else 'at rest'}): "
+                                            f"{problem.failure()}", start)
                     run.record(self.observe(stage, start))
                 path.start()
                 if not self.shapes:  # the walls are known to the self-contact once bound
@@ -209,7 +214,8 @@ class DoubleCraterCycle:
             "V_c1": final["V_c1"], "V_c2": final["V_c2"], "F_tilde": final["F_tilde"],
             "F_tilde_per_chamber": {"C1": final["F_tilde"], "C2": 0.0 if final["chambers"] == 2 else None},
             "chamber_events": self.topology, "stability": classify(self.events),
-            "fluid_law_residual": max((r.get("fluid_law_residual", 0.0) for r in run.rows), default=0.0),
+            "fluid_law_residual": max((r["fluid_law_residual"] for r in run.rows
+                                       if r["fluid_law_residual"] is not None), default=None),
             "V0": self.V0})
 
     def figures(self, rows, summary) -> dict:
