@@ -27,4 +27,5 @@ class _Lazy(Mapping):
 REGISTRY = _Lazy({"blister-rigid": "bcfem.scenes.blister_rigid", "blister-soft": "bcfem.scenes.blister_soft",
                   "crater": "bcfem.scenes.crater",
                   "crater-double": "bcfem.scenes.crater_double", "droplet-soft": "bcfem.scenes.droplet_soft"})
-STUDIES = _Lazy({"blister-rigid": "bcfem.scenes.blister_studies", "crater": "bcfem.scenes.crater"})
+STUDIES = _Lazy({"blister-rigid": "bcfem.scenes.blister_studies", "crater": "bcfem.scenes.crater",
+                 "crater-double": "bcfem.scenes.crater_double"})

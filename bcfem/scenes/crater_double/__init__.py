@@ -27,4 +27,20 @@ def solve(params: Params, comm, model_class=None) -> tuple[list[dict], dict]:
     return solve_rows(build(params, comm, model_class), comm)
 
 
-__all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "Params", "build", "solve"]
+def sweep_point(params: Params, comm) -> dict:
+    """One point of ``bcfem sweep crater-double``: the cycle's end values and its split."""
+    _, summary = solve(params, comm)
+    split = summary["split"]
+    return {"F_tilde": summary["F_tilde"], "p_c1_over_pa": summary["p_c1_over_pa"],
+            "p_c2_over_pa": summary["p_c2_over_pa"], "eps_contact": summary["eps_contact"],
+            "splits": split is not None, "merged": summary["merge"] is not None,
+            "p_at_split": split["p_over_pa"] if split else None, "stability": summary["stability"]}
+
+
+#: What ``bcfem sweep crater-double`` computes and plots (two axes: contour maps)
+SWEEP = {"solve": sweep_point,
+         "maps": [("F_tilde", "F~ at eps = 0 after the cycle"), ("p_c1_over_pa", "p_c1/p_a"),
+                  ("p_c2_over_pa", "p_c2/p_a"), ("eps_contact", "eps_a (empty: no split)")],
+         "title": "double-chamber crater cycle"}
+
+__all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "SWEEP", "Params", "build", "solve", "sweep_point"]

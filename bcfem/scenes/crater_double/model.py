@@ -95,6 +95,19 @@ class DoubleCrater(Crater):
         self.self_contact.bond(nodes, segments)
         return self.mesh.comm.allreduce(len(nodes))
 
+    def sidewall_gap(self) -> float:
+        """The least distance from a sidewall node to the protuberance's polyline (collective):
+        how far the cavity is from splitting (negative values are not reported: in contact the
+        penalty's penetration is O(L / c_k))."""
+        contact = self.self_contact
+        x, X, segments = contact._positions(), contact.X, contact.segments
+        side = x[self._on_sidewall(X)]
+        ends = segments[self._on_protuberance(X[segments[:, 0]]) & self._on_protuberance(X[segments[:, 1]])]
+        a, d = x[ends[:, 0]], x[ends[:, 1]] - x[ends[:, 0]]
+        v = side[:, None, :] - a[None, :, :]
+        t = np.clip(np.einsum("ijk,jk->ij", v, d) / np.einsum("jk,jk->j", d, d), 0.0, 1.0)
+        return float(np.linalg.norm(v - t[..., None] * d[None], axis=2).min(initial=np.inf))
+
     def _split_contacts(self):
         """This rank's contacts of a sidewall node with a protuberance segment or the reverse:
         (nodes, segments, gaps, node on the sidewall)."""

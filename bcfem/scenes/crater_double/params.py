@@ -43,6 +43,7 @@ Units and normalisations:
   lengths        over the crater height H; pressures over p_a; beta = mu / p_a
   preload eps    = -dL / L of the specimen
   V_c1, V_c2     chamber volumes over the cavity's volume at rest V0
+  sidewall_gap   least distance from the sidewall to the protuberance, over H
   F_tilde        = (p_a - p_c1) A_c1 / (p_a A0), A0 = pi r0^2: the net fluid force on
                    the specimen (C2 is enclosed by the specimen and pulls on nothing
                    outside it); A_c1 is the plate's area wetted by C1
@@ -57,7 +58,7 @@ SEALS = ("rest", "preload")
 CONTACTS = ("separable", "bonded")
 #: the columns of ``branch.csv``
 COLUMNS = ["stage", "eps", "chambers", "p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "A_c1_over_A0", "F_tilde",
-           "fluid_law_residual"]
+           "sidewall_gap", "fluid_law_residual"]
 
 
 def _help(text: str, unit: str = "1", choices=None) -> dict:

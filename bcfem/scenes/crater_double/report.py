@@ -13,8 +13,10 @@ def plot_cycle(rows, summary):
 
     plt = pyplot()
     fig, (ax, axf) = plt.subplots(1, 2, figsize=(9, 3.4))
+    loaded = [r for r in rows if r["stage"] == "load"]
     for stage, colour in (("load", "tab:red"), ("unload", "tab:blue")):
-        part = [r for r in rows if r["stage"] == stage]
+        # unloading starts from the last loaded state
+        part = loaded if stage == "load" else loaded[-1:] + [r for r in rows if r["stage"] == stage]
         eps = [r["eps"] for r in part]
         ax.plot(eps, [r["p_c1_over_pa"] - 1 for r in part], "-", color=colour, label=f"C1, {stage}")
         two = [r for r in part if r["chambers"] == 2]

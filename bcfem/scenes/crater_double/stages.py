@@ -115,7 +115,7 @@ class DoubleCraterCycle:
         A = self.model.wetted_area() / self.A0
         row = {"stage": stage, "eps": eps, "chambers": self.chambers, "p_c1_over_pa": p1, "p_c2_over_pa": p2,
                "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "A_c1_over_A0": A, "F_tilde": (1 - p1) * A,
-               "fluid_law_residual": None}
+               "sidewall_gap": self.model.sidewall_gap(), "fluid_law_residual": None}
         if self.sealed:  # each fluid's law: p V = n (air) or V = n (liquid)
             laws = [(p if self.params.fluid == "air" else 1.0) * V / n - 1
                     for p, V, n in zip((p1, p2), (V1, V2), self.amounts)]
@@ -212,6 +212,7 @@ class DoubleCraterCycle:
             "eps_contact": split["eps"] if split else None,
             "p_c1_over_pa": final["p_c1_over_pa"], "p_c2_over_pa": final["p_c2_over_pa"],
             "V_c1": final["V_c1"], "V_c2": final["V_c2"], "F_tilde": final["F_tilde"],
+            "least_sidewall_gap": min(r["sidewall_gap"] for r in run.rows),
             "F_tilde_per_chamber": {"C1": final["F_tilde"], "C2": 0.0 if final["chambers"] == 2 else None},
             "chamber_events": self.topology, "stability": classify(self.events),
             "fluid_law_residual": max((r["fluid_law_residual"] for r in run.rows

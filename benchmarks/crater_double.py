@@ -1,0 +1,164 @@
+"""The double-chamber crater (ch. 9): split strain and suction against wall time, and Fig. 9.10.
+
+Mesh study: the cell of a confined array (``--cell array``, outer radius 2 r0, height 2 H,
+the dissertation's crater r0 = 0.52 H, R0 = 0.5 H, s = 0.03 H, mu = p_a, sticking plate),
+whose sidewall reaches the protuberance at eps_a ~ 0.012, cycled bonded to a preload of
+0.02 and back to eps = 0, on three meshes (element sizes on the walls and at the contact
+halved each time). Each run is ``mpirun -n 2 bcfem run crater-double`` with a warm JIT
+cache; eps_a, F~ and the chambers' pressures are compared with the Richardson value of the
+two finest meshes.
+
+Fig. 9.10: (p_ci - p_a)/p_a against eps, loading and unloading, for the dissertation's
+design as an isolated specimen at its preload 0.14 (the defaults: the cavity never splits),
+and for the array cell above (finest mesh).
+
+Usage (from the repository root)::
+
+    .venv/bin/python benchmarks/crater_double.py
+
+Writes ``docs/benchmarks/crater-double.{csv,md,png}`` and
+``docs/figures/crater_double/fig9_10.{png,json}``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from common import ROOT, atomic_text, csv_text, fmt, loadavg, save_figure
+
+OUT = ROOT / "docs" / "benchmarks"
+FIGURES = ROOT / "docs" / "figures" / "crater_double"
+BIN = Path(sys.executable).parent
+CELL = ["--cell", "array", "--specimen-radius", "2", "--specimen-height", "2", "--contact", "bonded",
+        "--preload", "0.02", "--strain-step", "0.005"]
+MESHES = [(0.08, 0.02), (0.04, 0.01), (0.02, 0.005)]
+KEYS = ("eps_contact", "F_tilde", "p_c1_over_pa", "p_c2_over_pa")
+COLUMNS = ["size_wall", "size_contact", "dofs", *KEYS, *(f"error_{k}" for k in KEYS), "newton_iterations",
+           "t_command_s", "t_solve_s"]
+COMMAND = ".venv/bin/python benchmarks/crater_double.py"
+
+
+def run(args: list[str], ranks: int = 2) -> tuple[dict, list[dict], float]:
+    """(summary, rows, the whole command's seconds) of ``mpirun -n ranks bcfem run crater-double ARGS``."""
+    with tempfile.TemporaryDirectory() as out:
+        env = {**os.environ, "PATH": f"{BIN}:{os.environ['PATH']}"}
+        env.pop("PETSC_OPTIONS", None)
+        t0 = time.perf_counter()
+        subprocess.run([str(BIN / "mpirun"), "-n", str(ranks), str(BIN / "bcfem"), "run", "crater-double", *args,
+                        "--quiet", "--no-plots", "--out", out], env=env, check=True, stdout=subprocess.DEVNULL, cwd=ROOT)
+        elapsed = time.perf_counter() - t0
+        summary = json.loads((Path(out) / "summary.json").read_text())
+        with open(Path(out) / "branch.csv") as f:
+            rows = [{k: (float(v) if k != "stage" and v != "" else v) for k, v in r.items()} for r in csv.DictReader(f)]
+    return summary, rows, elapsed
+
+
+def mesh_study() -> tuple[list[dict], tuple[dict, list[dict]]]:
+    """The rows of the table, and the finest run's (summary, rows)."""
+    results, finest = [], None
+    for wall, contact in MESHES:
+        summary, rows, elapsed = run([*CELL, "--size-wall", str(wall), "--size-contact", str(contact)])
+        results.append({"size_wall": wall, "size_contact": contact, "dofs": summary["dofs"],
+                        **{k: summary[k] for k in KEYS}, "newton_iterations": summary["newton_iterations"],
+                        "t_command_s": elapsed, "t_solve_s": summary["wall_time_s"]})
+        finest = summary, rows
+        print(results[-1], flush=True)
+    for key in KEYS:  # against the two finest meshes' Richardson value at the observed order
+        a, b, c = (r[key] for r in results)
+        ratio = (b - a) / (c - b) if c != b else float("nan")
+        order = max(min(math.log2(abs(ratio)), 4.0), 1.0) if math.isfinite(ratio) and ratio else 2.0
+        reference = c + (c - b) / (2**order - 1)
+        for r in results:
+            r[f"error_{key}"] = r[key] - reference
+        results[-1][f"order_{key}"] = order
+    return results, finest
+
+
+def figure(isolated_rows, cell_rows, isolated, cell):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+    for ax, rows, title in ((axes[0], isolated_rows, "dissertation's design, isolated specimen"),
+                            (axes[1], cell_rows, "the same crater in a confined array cell (bonded)")):
+        for stage, colour in (("load", "tab:red"), ("unload", "tab:blue")):
+            part = [r for r in rows if r["stage"] == stage]
+            ax.plot([r["eps"] for r in part], [r["p_c1_over_pa"] - 1 for r in part], "-", color=colour,
+                    label=f"C1 {stage}")
+            two = [r for r in part if r["chambers"] == 2]
+            if two:
+                ax.plot([r["eps"] for r in two], [r["p_c2_over_pa"] - 1 for r in two], "--", color=colour,
+                        label=f"C2 {stage}")
+        ax.set_xlabel("ε")
+        ax.set_ylabel("(p_ci - p_a)/p_a")
+        ax.set_title(title, fontsize=9)
+        ax.legend(fontsize=7)
+    split = cell["split"]
+    axes[1].axvline(split["eps"], color="0.6", ls=":", lw=0.8)
+    fig.tight_layout()
+    return fig
+
+
+def main() -> None:
+    results, (cell, cell_rows) = mesh_study()
+    isolated, isolated_rows, t_isolated = run(["--contact", "bonded"])
+    atomic_text(OUT / "crater-double.csv", csv_text(results, COLUMNS))
+    numbers = {"isolated": {k: isolated[k] for k in ("eps_contact", "F_tilde", "p_c1_over_pa", "p_c2_over_pa",
+                                                      "wall_time_s", "dofs")}
+               | {"p_max_over_pa": max(r["p_c1_over_pa"] for r in isolated_rows), "t_command_s": t_isolated},
+               "cell": {k: cell[k] for k in ("eps_contact", "F_tilde", "p_c1_over_pa", "p_c2_over_pa", "split")}}
+    atomic_text(FIGURES / "fig9_10.json", json.dumps(numbers, indent=1) + "\n")
+    save_figure(figure(isolated_rows, cell_rows, isolated, cell), FIGURES / "fig9_10.png")
+    save_figure(error_figure(results), OUT / "crater-double.png")
+    table = "\n".join(
+        f"| {r['size_wall']} / {r['size_contact']} | {r['dofs']} | {r['eps_contact']:.6f} | {fmt(r['error_eps_contact'])}"
+        f" | {r['F_tilde']:.5f} | {fmt(r['error_F_tilde'])} | {r['p_c1_over_pa']:.5f} | {r['p_c2_over_pa']:.5f}"
+        f" | {int(r['newton_iterations'])} | {r['t_command_s']:.1f} | {r['t_solve_s']:.1f} |" for r in results)
+    orders = ", ".join(f"{k} {results[-1][f'order_{k}']:.2f}" for k in KEYS)
+    atomic_text(OUT / "crater-double.md", f"""# crater-double: split strain and suction against wall time
+
+`{COMMAND}` (load average at the end: {loadavg()}). The dissertation's crater (r0 = 0.52 H,
+R0 = 0.5 H, s = 0.03 H, mu = p_a, air sealed at rest, sticking plate) in the cell of a confined
+array (outer radius 2 r0 on rollers, height 2 H), bonded contact, loaded to eps = 0.02 and
+unloaded to 0; `mpirun -n 2`, warm JIT cache. Errors against the Richardson value of the two
+finest meshes at the observed order ({orders}; clipped to [1, 4]). t_command is the whole command,
+t_solve the scene's solve.
+
+| sizes wall / contact [H] | dofs | eps_a | error | F~ | error | p_c1/p_a | p_c2/p_a | Newton its | t_command [s] | t_solve [s] |
+|---|---|---|---|---|---|---|---|---|---|---|
+{table}
+
+The dissertation's design as an isolated specimen (`bcfem run crater-double --contact bonded`, the
+defaults, preload 0.14): no split (eps_a: {isolated['eps_contact']}), p up to
+{numbers['isolated']['p_max_over_pa']:.4f} p_a, back to {isolated['p_c1_over_pa']:.6f} p_a at eps = 0;
+{isolated['dofs']} dofs, {isolated['wall_time_s']:.0f} s solve, {t_isolated:.0f} s command on 2 ranks.
+""")
+
+
+def error_figure(results):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 3.6))
+    times = [r["t_solve_s"] for r in results[:-1]]
+    for key, marker in (("eps_contact", "o"), ("F_tilde", "s"), ("p_c1_over_pa", "^")):
+        ax.loglog(times, [abs(r[f"error_{key}"]) for r in results[:-1]], marker + "-", label=key)
+    ax.set_xlabel("solve wall time on 2 ranks [s]")
+    ax.set_ylabel("|error| against Richardson")
+    ax.legend(fontsize=8)
+    ax.set_title("crater-double, array cell, bonded", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+if __name__ == "__main__":
+    main()
