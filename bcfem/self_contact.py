@@ -77,19 +77,30 @@ def _padded(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def gap_derivatives(p, a, b):
     """Gradient (6,) and Hessian (6, 6) of the gap of one node p against segment (a, b),
     in the unknowns (p, a, b)."""
+    grad, hess = gap_derivatives_batch(*(np.asarray(z, dtype=float)[None] for z in (p, a, b)))
+    return grad[0], hess[0]
+
+
+def gap_derivatives_batch(p, a, b):
+    """:func:`gap_derivatives` of n pairs at once: gradients (n, 6) and Hessians (n, 6, 6);
+    p, a, b are (n, 2)."""
     d, v = b - a, p - a
-    L = math.hypot(*d)
-    c = d[0] * v[1] - d[1] * v[0]
-    dperp = _ROT @ d
-    s = np.array([v[1], -v[0]])
+    L = np.hypot(d[:, 0], d[:, 1])[:, None]
+    c = (d[:, 0] * v[:, 1] - d[:, 1] * v[:, 0])[:, None]
+    dperp = d @ _ROT.T
+    s = np.stack([v[:, 1], -v[:, 0]], axis=1)
     g_v = dperp / L
     g_d = s / L - c * d / L**3
-    H_vd = _ROT / L - np.outer(dperp, d) / L**3
-    H_dd = (-np.outer(s, d) - np.outer(d, s) - c * np.eye(2)) / L**3 + 3 * c * np.outer(d, d) / L**5
-    H = np.block([[np.zeros((2, 2)), H_vd], [H_vd.T, H_dd]])
-    I, Z = np.eye(2), np.zeros((2, 2))
-    T = np.block([[I, -I, Z], [Z, -I, I]])  # (v, d) = T (p, a, b)
-    return T.T @ np.concatenate([g_v, g_d]), T.T @ H @ T
+    outer = np.einsum  # (n, 2) x (n, 2) -> (n, 2, 2)
+    H_vd = _ROT[None] / L[..., None] - outer("ni,nj->nij", dperp, d) / L[..., None] ** 3
+    H_dd = ((-outer("ni,nj->nij", s, d) - outer("ni,nj->nij", d, s) - c[..., None] * np.eye(2)) / L[..., None] ** 3
+            + 3 * c[..., None] * outer("ni,nj->nij", d, d) / L[..., None] ** 5)
+    n = len(p)
+    H = np.zeros((n, 4, 4))
+    H[:, :2, 2:], H[:, 2:, :2], H[:, 2:, 2:] = H_vd, np.swapaxes(H_vd, 1, 2), H_dd
+    eye, zero = np.eye(2), np.zeros((2, 2))
+    T = np.block([[eye, -eye, zero], [zero, -eye, eye]])  # (v, d) = T (p, a, b)
+    return np.concatenate([g_v, g_d], axis=1) @ T, np.einsum("ki,nkl,lj->nij", T, H, T)
 
 
 class WallSelfContact:
@@ -376,29 +387,32 @@ class WallSelfContact:
         return self.comm.allreduce(float(np.sum(0.5 * self._stiffness(P, S) * g**2)), op=MPI.SUM)
 
     def _contributions(self, with_hessian: bool):
+        """(rows (n, 6), free (n, 6), forces (n, 6), tangents (n, 6, 6) or None) of the pairs
+        in contact, all at once."""
         x = self._positions()
         P, S, g = self.pairs(x)
         self.active = self.comm.allreduce(len(P), op=MPI.SUM)
-        for p, s, gp, k in zip(P, S, g, self._stiffness(P, S)):
-            a, b = self.segments[s]
-            grad, hess = gap_derivatives(x[p], x[a], x[b])
-            rows = self.rows[[p, a, b]].reshape(-1)
-            free = ~self.fixed[[p, a, b]].reshape(-1)
-            scale = float(self.scale.value)
-            force = scale * k * gp * grad
-            tangent = scale * k * (np.outer(grad, grad) + gp * hess) if with_hessian else None
-            yield rows, free, force, tangent
+        nodes = np.stack([P, self.segments[S, 0], self.segments[S, 1]], axis=1)  # (n, 3)
+        grad, hess = gap_derivatives_batch(x[P], x[nodes[:, 1]], x[nodes[:, 2]])
+        rows = self.rows[nodes].reshape(len(P), 6)
+        free = ~self.fixed[nodes].reshape(len(P), 6)
+        k = float(self.scale.value) * self._stiffness(P, S)
+        force = (k * g)[:, None] * grad
+        tangent = k[:, None, None] * (np.einsum("ni,nj->nij", grad, grad) + g[:, None, None] * hess) \
+            if with_hessian else None
+        return rows, free, force, tangent
 
     def add_residual(self, b: PETSc.Vec) -> None:
         """b += dΠ_c/du (free rows only; Dirichlet rows hold their own equation)."""
-        for rows, free, force, _ in self._contributions(False):
-            b.setValues(rows[free].astype(PETSc.IntType), force[free], addv=PETSc.InsertMode.ADD_VALUES)
+        rows, free, force, _ = self._contributions(False)
+        b.setValues(rows[free].astype(PETSc.IntType), force[free], addv=PETSc.InsertMode.ADD_VALUES)
         b.assemblyBegin()
         b.assemblyEnd()
 
     def add_jacobian(self, A: PETSc.Mat) -> None:
         """A += d²Π_c/du² (free rows and columns only)."""
-        for rows, free, _, tangent in self._contributions(True):
-            idx = rows[free].astype(PETSc.IntType)
-            A.setValues(idx, idx, tangent[np.ix_(free, free)], addv=PETSc.InsertMode.ADD_VALUES)
+        rows, free, _, tangents = self._contributions(True)
+        for r, f, tangent in zip(rows, free, tangents):
+            idx = r[f].astype(PETSc.IntType)
+            A.setValues(idx, idx, tangent[np.ix_(f, f)], addv=PETSc.InsertMode.ADD_VALUES)
         A.assemble()
