@@ -37,6 +37,7 @@ bench: venv
 	$(BIN)/python benchmarks/crater_air.py
 	$(BIN)/python benchmarks/crater_design.py
 	$(BIN)/python benchmarks/crater_regulariser.py
+	$(BIN)/python benchmarks/crater_double.py
 	$(BIN)/python benchmarks/blister_soft.py
 	$(BIN)/python benchmarks/blister_soft_delamination.py
 	$(BIN)/python benchmarks/droplet_soft.py
