@@ -39,7 +39,7 @@ FIGURES = ROOT / "docs" / "figures" / "crater_double"
 BIN = Path(sys.executable).parent
 CELL = ["--cell", "array", "--specimen-radius", "2", "--specimen-height", "2", "--contact", "bonded",
         "--preload", "0.02", "--strain-step", "0.005"]
-MESHES = [(0.08, 0.02), (0.04, 0.01), (0.02, 0.005)]
+MESHES = [(0.16, 0.04), (0.08, 0.02), (0.04, 0.01)]
 KEYS = ("eps_contact", "F_tilde", "p_c1_over_pa", "p_c2_over_pa")
 COLUMNS = ["size_wall", "size_contact", "dofs", *KEYS, *(f"error_{k}" for k in KEYS), "newton_iterations",
            "t_command_s", "t_solve_s"]
