@@ -34,13 +34,15 @@ def sweep_point(params: Params, comm) -> dict:
     return {"F_tilde": summary["F_tilde"], "p_c1_over_pa": summary["p_c1_over_pa"],
             "p_c2_over_pa": summary["p_c2_over_pa"], "eps_contact": summary["eps_contact"],
             "splits": split is not None, "merged": summary["merge"] is not None,
-            "p_at_split": split["p_over_pa"] if split else None, "stability": summary["stability"]}
+            "p_at_split": split["p_over_pa"] if split else None, "stability": summary["stability"],
+            "least_sidewall_gap": summary["least_sidewall_gap"]}
 
 
 #: What ``bcfem sweep crater-double`` computes and plots (two axes: contour maps)
 SWEEP = {"solve": sweep_point,
          "maps": [("F_tilde", "F~ at eps = 0 after the cycle"), ("p_c1_over_pa", "p_c1/p_a"),
-                  ("p_c2_over_pa", "p_c2/p_a"), ("eps_contact", "eps_a (empty: no split)")],
+                  ("p_c2_over_pa", "p_c2/p_a"), ("eps_contact", "eps_a (empty: no split)"),
+                  ("least_sidewall_gap", "least sidewall-protuberance gap / H")],
          "title": "double-chamber crater cycle"}
 
 __all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "SWEEP", "Params", "build", "solve", "sweep_point"]
