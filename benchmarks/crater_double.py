@@ -14,7 +14,8 @@ and for the array cell above (finest mesh).
 
 Usage (from the repository root)::
 
-    .venv/bin/python benchmarks/crater_double.py
+    .venv/bin/python benchmarks/crater_double.py        # the benchmark and the figure
+    .venv/bin/python benchmarks/crater_double.py draw   # the figure again from fig9_10.json
 
 Writes ``docs/benchmarks/crater-double.{csv,md,png}`` and
 ``docs/figures/crater_double/fig9_10.{png,json}``.
@@ -82,29 +83,43 @@ def mesh_study() -> tuple[list[dict], tuple[dict, list[dict]]]:
     return results, finest
 
 
-def figure(isolated_rows, cell_rows, isolated, cell):
+def figure(isolated_rows, cell_rows, split_eps):
+    """Fig. 9.10's axes for both specimens, and the chambers' pressure difference in the cell."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
     for ax, rows, title in ((axes[0], isolated_rows, "dissertation's design, isolated specimen"),
                             (axes[1], cell_rows, "the same crater in a confined array cell (bonded)")):
+        loaded = [r for r in rows if r["stage"] == "load"]
         for stage, colour in (("load", "tab:red"), ("unload", "tab:blue")):
-            part = [r for r in rows if r["stage"] == stage]
+            part = loaded if stage == "load" else loaded[-1:] + [r for r in rows if r["stage"] == stage]
             ax.plot([r["eps"] for r in part], [r["p_c1_over_pa"] - 1 for r in part], "-", color=colour,
                     label=f"C1 {stage}")
             two = [r for r in part if r["chambers"] == 2]
             if two:
                 ax.plot([r["eps"] for r in two], [r["p_c2_over_pa"] - 1 for r in two], "--", color=colour,
                         label=f"C2 {stage}")
-        ax.set_xlabel("ε")
         ax.set_ylabel("(p_ci - p_a)/p_a")
         ax.set_title(title, fontsize=9)
         ax.legend(fontsize=7)
-    split = cell["split"]
-    axes[1].axvline(split["eps"], color="0.6", ls=":", lw=0.8)
+    loaded = [r for r in cell_rows if r["stage"] == "load"]
+    for stage, colour in (("load", "tab:red"), ("unload", "tab:blue")):
+        part = loaded if stage == "load" else loaded[-1:] + [r for r in cell_rows if r["stage"] == stage]
+        two = [r for r in part if r["chambers"] == 2]
+        axes[2].plot([r["eps"] for r in two], [r["p_c1_over_pa"] - r["p_c2_over_pa"] for r in two], "-o", ms=3,
+                     color=colour, label=stage)
+    axes[2].set_ylabel("(p_c1 - p_c2)/p_a")
+    axes[2].set_title("the cell's chambers after the split", fontsize=9)
+    axes[2].legend(fontsize=7)
+    for ax in axes:
+        ax.set_xlabel("ε")
+        ax.xaxis.set_major_locator(MaxNLocator(5))
+    for ax in axes[1:]:
+        ax.axvline(split_eps, color="0.6", ls=":", lw=0.8)
     fig.tight_layout()
     return fig
 
@@ -116,9 +131,10 @@ def main() -> None:
     numbers = {"isolated": {k: isolated[k] for k in ("eps_contact", "F_tilde", "p_c1_over_pa", "p_c2_over_pa",
                                                       "wall_time_s", "dofs")}
                | {"p_max_over_pa": max(r["p_c1_over_pa"] for r in isolated_rows), "t_command_s": t_isolated},
-               "cell": {k: cell[k] for k in ("eps_contact", "F_tilde", "p_c1_over_pa", "p_c2_over_pa", "split")}}
+               "cell": {k: cell[k] for k in ("eps_contact", "F_tilde", "p_c1_over_pa", "p_c2_over_pa", "split")},
+               "rows": {"isolated": isolated_rows, "cell": cell_rows}}
     atomic_text(FIGURES / "fig9_10.json", json.dumps(numbers, indent=1) + "\n")
-    save_figure(figure(isolated_rows, cell_rows, isolated, cell), FIGURES / "fig9_10.png")
+    draw()
     save_figure(error_figure(results), OUT / "crater-double.png")
     table = "\n".join(
         f"| {r['size_wall']} / {r['size_contact']} | {r['dofs']} | {r['eps_contact']:.6f} | {fmt(r['error_eps_contact'])}"
@@ -145,6 +161,13 @@ defaults, preload 0.14): no split (eps_a: {isolated['eps_contact']}), p up to
 """)
 
 
+def draw() -> None:
+    """Fig. 9.10 from the kept numbers (``fig9_10.json``)."""
+    numbers = json.loads((FIGURES / "fig9_10.json").read_text())
+    rows = numbers["rows"]
+    save_figure(figure(rows["isolated"], rows["cell"], numbers["cell"]["split"]["eps"]), FIGURES / "fig9_10.png")
+
+
 def error_figure(results):
     import matplotlib.pyplot as plt
 
@@ -161,4 +184,7 @@ def error_figure(results):
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["draw"]:
+        draw()
+    else:
+        main()
