@@ -513,3 +513,30 @@ def search_on_the_slot(comm):
 @pytest.mark.mpi
 def test_search_finds_every_pair_on_the_slot():
     assert search_on_the_slot(MPI.COMM_WORLD) > 100
+
+
+def test_a_bonded_pair_acts_whatever_its_gap_and_is_never_counted_twice():
+    """WallSelfContact.bond (non-separable contact): a bonded pair is in the pairs with its
+    signed gap wherever it is, and a bonded pair the search finds anyway appears once."""
+    from bcfem.gap import gap
+
+    apart = folded(0.5, tilt=0.0)  # runs 0.5 apart: nothing within a quarter segment
+    term = chain(apart)
+    assert term.pairs(apart)[0].size == 0
+    first = term.segments[:12]  # the first run's segments
+    node = 20  # a node of the second run, above the first
+    g, xi = gap(np.repeat(apart[None, node], len(first), axis=0), apart[first[:, 0]], apart[first[:, 1]])
+    segment = int(np.flatnonzero((xi >= 0) & (xi < 1))[0])
+    term.bond([node], [segment])
+    P, S, gaps = term.pairs(apart)
+    assert list(P) == [node] and list(S) == [segment]
+    # beyond the one-sided search's window (a quarter segment), it still acts
+    assert gaps[0] == pytest.approx(g[segment]) and abs(gaps[0]) > term.depth
+
+    touching = folded(0.1)
+    term = chain(touching)
+    P, S, gaps = term.pairs(touching)
+    assert P.size > 0
+    term.bond(P[:1], S[:1])
+    again = term.pairs(touching)
+    assert all(np.array_equal(a, b) for a, b in zip(again, (P, S, gaps)))
