@@ -91,12 +91,13 @@ def figure(isolated_rows, cell_rows, split_eps):
     import matplotlib.pyplot as plt
     from matplotlib.ticker import MaxNLocator
 
+    from bcfem.scenes.crater_double.report import stage_rows
+
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
     for ax, rows, title in ((axes[0], isolated_rows, "dissertation's design, isolated specimen"),
                             (axes[1], cell_rows, "the same crater in a confined array cell (bonded)")):
-        loaded = [r for r in rows if r["stage"] == "load"]
         for stage, colour in (("load", "tab:red"), ("unload", "tab:blue")):
-            part = loaded if stage == "load" else loaded[-1:] + [r for r in rows if r["stage"] == stage]
+            part = stage_rows(rows, stage)
             ax.plot([r["eps"] for r in part], [r["p_c1_over_pa"] - 1 for r in part], "-", color=colour,
                     label=f"C1 {stage}")
             two = [r for r in part if r["chambers"] == 2]
@@ -106,9 +107,8 @@ def figure(isolated_rows, cell_rows, split_eps):
         ax.set_ylabel("(p_ci - p_a)/p_a")
         ax.set_title(title, fontsize=9)
         ax.legend(fontsize=7)
-    loaded = [r for r in cell_rows if r["stage"] == "load"]
     for stage, colour in (("load", "tab:red"), ("unload", "tab:blue")):
-        part = loaded if stage == "load" else loaded[-1:] + [r for r in cell_rows if r["stage"] == stage]
+        part = stage_rows(cell_rows, stage)
         two = [r for r in part if r["chambers"] == 2]
         axes[2].plot([r["eps"] for r in two], [r["p_c1_over_pa"] - r["p_c2_over_pa"] for r in two], "-o", ms=3,
                      color=colour, label=stage)

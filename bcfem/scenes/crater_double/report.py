@@ -6,6 +6,13 @@ from __future__ import annotations
 import numpy as np
 
 
+def stage_rows(rows, stage: str) -> list[dict]:
+    """The rows of ``stage``; unloading starts from the last loaded state, so that its curve
+    joins the loading one."""
+    loaded = [r for r in rows if r["stage"] == "load"]
+    return loaded if stage == "load" else loaded[-1:] + [r for r in rows if r["stage"] == stage]
+
+
 def plot_cycle(rows, summary):
     """(p_ci - p_a)/p_a against eps, loading and unloading, C1 solid and C2 dashed (Fig. 9.10a),
     and F_tilde."""
@@ -13,10 +20,8 @@ def plot_cycle(rows, summary):
 
     plt = pyplot()
     fig, (ax, axf) = plt.subplots(1, 2, figsize=(9, 3.4))
-    loaded = [r for r in rows if r["stage"] == "load"]
     for stage, colour in (("load", "tab:red"), ("unload", "tab:blue")):
-        # unloading starts from the last loaded state
-        part = loaded if stage == "load" else loaded[-1:] + [r for r in rows if r["stage"] == stage]
+        part = stage_rows(rows, stage)
         eps = [r["eps"] for r in part]
         ax.plot(eps, [r["p_c1_over_pa"] - 1 for r in part], "-", color=colour, label=f"C1, {stage}")
         two = [r for r in part if r["chambers"] == 2]
