@@ -7,6 +7,8 @@ sealed fluid adds its pressure p as a global unknown (a real-space state,
 * :class:`IdealGas`: :math:`-(p-1)V + V_1\ln p`; stationary in p: Boyle's law
   :math:`pV = V_1` (isothermal, sealed at p = 1 and volume V1);
 * :class:`IncompressibleLiquid`: :math:`-(p-1)(V - V_1)`; stationary in p: V = V1;
+* :class:`HeldPressure`: :math:`-(p_h-1)V`: a cavity at a given pressure p_h (a liquid's
+  vapour once it has cavitated);
 * :class:`Vacuum`: :math:`sV`: an empty cavity, the ambient pressure alone
   (s ramps the suction on when a closed cavity is sealed).
 
@@ -76,7 +78,8 @@ class IdealGas(SealedFluid):
 
 
 class IncompressibleLiquid(SealedFluid):
-    """V = V1, p its multiplier (p may turn negative: no cavitation is modelled)."""
+    """V = V1, p its multiplier (p may turn negative; a scene that models cavitation
+    replaces the term by :class:`HeldPressure` where p falls to the vapour pressure)."""
 
     name = "incompressible_liquid"
 
@@ -86,6 +89,26 @@ class IncompressibleLiquid(SealedFluid):
         # which PETSc's VI reduction and zeroRowsColumns need
         zero = ctx.constant("liquid_pressure_diagonal", 0.0)
         return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, (p - 1.0) * amount + zero * (p - 1.0) ** 2)
+
+
+@dataclass(frozen=True)
+class HeldPressure:
+    """A cavity at the pressure ``pressure`` (over p_a) whatever its volume: a liquid that has
+    cavitated, its vapour at the vapour pressure. No unknown: the volume is free."""
+
+    cavity: object
+    pressure: float
+    pressure_name: str = "fluid_pressure"
+    multipliers = ()
+
+    @property
+    def name(self) -> str:
+        return f"{self.pressure_name}_held"
+
+    def energy(self, ctx):
+        p = ctx.constant(self.name)
+        p.value = self.pressure
+        return -(p - 1.0) * self.cavity.volume(ctx.kin)
 
 
 @dataclass(frozen=True)

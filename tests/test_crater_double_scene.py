@@ -7,13 +7,15 @@ sidewall reaches the protuberance at eps ~ 0.012:
   bracket; after it, each chamber keeps its own gas (p_i V_i = const) and the two pressures
   part; at the merge on unloading the gas is pooled, its total conserved;
 * bonded contact keeps the chambers apart down to eps = 0;
-* a liquid sealed at the preload keeps each chamber's volume;
+* a liquid sealed at the preload keeps each chamber's volume (no cavitation), or cavitates
+  at its vapour pressure and holds it;
 * ``mpirun -n 2`` gives the serial cycle (marker ``mpi``);
 * (bonded, liquid and two ranks are marked ``slow``: ``make test-all``);
 * bad input exits 2 before meshing.
 """
 
 import functools
+import math
 import subprocess
 import sys
 
@@ -21,11 +23,16 @@ from mpi4py import MPI
 
 import pytest
 
-from bcfem.scenes import crater_double
+from bcfem.scenes import crater, crater_double
+from bcfem.scenes.crater.model import Crater
+from bcfem.scenes.crater_double.model import DoubleCrater
 from bcfem.scenes.crater_double.stages import BISECTIONS
 
 CELL = dict(cell="array", specimen_radius=2.0, specimen_height=2.0, size_wall=0.16, size_contact=0.04,
             preload=0.0125, strain_step=0.005)
+#: no protuberance: a plain cylindrical crater, vented while loading, on a frictionless plate
+PLAIN = dict(protuberance_radius=0.0, seal="preload", plate="frictionless", size_wall=0.16, size_contact=0.04,
+             specimen_radius=3.0, specimen_height=3.0, preload=0.05, strain_step=0.0125)
 
 
 @functools.cache
@@ -78,13 +85,34 @@ def test_bonded_contact_keeps_the_chambers_apart():
 
 @pytest.mark.slow
 def test_a_liquid_keeps_each_chambers_volume():
-    rows, summary = cycle(fluid="liquid", seal="preload")
+    rows, summary = cycle(fluid="liquid", seal="preload", cavitation=-math.inf)
     sealed = [r for r in rows if r["stage"] == "unload"]
     assert summary["split"] is not None and all(r["chambers"] == 2 for r in sealed)
     for key in ("V_c1", "V_c2"):
         assert max(r[key] for r in sealed) - min(r[key] for r in sealed) < 1e-8
     # vented while loading: both chambers at p_a until sealed
     assert all(r["p_c1_over_pa"] == r["p_c2_over_pa"] == 1.0 for r in rows if r["stage"] == "load")
+    assert summary["p_c1_over_pa"] < -10  # no cavitation: the liquid takes any tension
+
+
+@pytest.mark.slow
+def test_a_liquid_cavitates_at_its_vapour_pressure_and_holds_it():
+    p_v = crater_double.Params.cavitation
+    rows, summary = cycle(fluid="liquid", seal="preload")
+    event = summary["cavitation"]
+    assert event["stage"] == "unload" and event["bracket"] <= CELL["strain_step"] * 2.0**-BISECTIONS
+    # located where the liquid's pressure crosses p_v (within the bracket's pressure change)
+    p_event = event[f"p_{event['chamber'].lower()}_over_pa"]
+    assert p_v - 0.01 < p_event < p_v
+    at_seal = next(r for r in rows if r["stage"] == "unload")
+    vapour = [r for r in rows if r["vapour"]]
+    assert vapour and all(r["fluid_law_residual"] < 1e-8 for r in vapour)
+    for r in vapour:  # a cavitated chamber holds p_v, and its volume is at least the liquid's
+        chambers = ("c1", "c2") if r["chambers"] == 2 else ("c1",)
+        assert min(r[f"p_{c}_over_pa"] for c in chambers) >= p_v - 1e-12
+        assert r["V_c1"] + r["V_c2"] >= at_seal["V_c1"] + at_seal["V_c2"] - 1e-8
+    # unloaded: the vapour pulls on the plate with (1 - p_v) over the wetted area
+    assert summary["F_tilde"] == pytest.approx((1 - p_v) * rows[-1]["A_c1_over_A0"], rel=1e-12)
 
 
 @pytest.mark.mpi
@@ -101,9 +129,51 @@ def test_two_ranks_equal_serial():
         assert [r[key] for r in rows] == pytest.approx([r[key] for r in reference], rel=1e-8, abs=1e-10)
 
 
+@functools.cache
+def plain_crater(comm=MPI.COMM_SELF):
+    """The scene ``crater`` on the plain cylindrical crater of ``crater-double`` (R0 = 0): the
+    same mesh, material, walls and vented loading, sealed at the preload."""
+    double = crater_double.Params(**{**PLAIN, "preload": crater_double.Params.preload})
+    geometry = double.geometry()
+
+    class CylinderParams(crater.Params):
+        def geometry(self):
+            return geometry
+
+    class CylinderCrater(Crater):
+        walls = DoubleCrater.walls
+        create_mesh = staticmethod(DoubleCrater.create_mesh)
+
+    params = CylinderParams(crater_radius=geometry.r0, specimen_radius=geometry.specimen_radius,
+                            specimen_height=geometry.specimen_height, beta=double.beta,
+                            preload=PLAIN["preload"], strain_step=PLAIN["strain_step"],
+                            surface_energy=double.surface_energy, size_crater=0.5)
+    return crater.solve(params, comm, CylinderCrater)
+
+
+def test_without_a_protuberance_it_is_the_crater_scene():
+    """R0 = 0: one chamber that never splits; every state the crater scene also reaches
+    (vented loading, sealed at the preload, unloading) agrees to solver tolerance."""
+    rows, summary = crater_double.solve(crater_double.Params(**PLAIN), MPI.COMM_SELF)
+    reference, _ = plain_crater()
+    assert summary["split"] is None and summary["least_sidewall_gap"] is None
+    assert all(r["chambers"] == 1 for r in rows)
+    same = {(r["stage"], round(r["eps"], 12)): r for r in reference}
+    common = [(r, same[(r["stage"], round(r["eps"], 12))]) for r in rows
+              if (r["stage"], round(r["eps"], 12)) in same and r["eps"] > 0]
+    assert {r["stage"] for r, _ in common} == {"load", "unload"} and len(common) >= 6
+    for r, c in common:
+        assert r["V_c1"] == pytest.approx(c["V_over_V0"], rel=1e-8)
+        assert r["p_c1_over_pa"] == pytest.approx(c["p_over_pa"], rel=1e-8)
+        assert r["A_c1_over_A0"] == pytest.approx(c["A_over_A0"], rel=1e-8)
+        assert r["F_tilde"] == pytest.approx(c["F_tilde"], rel=1e-8, abs=1e-10)
+
+
 @pytest.mark.parametrize("args, word", [(["--gap", "0"], "gap"), (["--protuberance-radius", "0.6"], "protuberance"),
                                         (["--preload", "0.95"], "preload"), (["--cell", "hex"], "cell"),
-                                        (["--specimen-radius", "0.5"], "specimen-radius")])
+                                        (["--specimen-radius", "0.5"], "specimen-radius"),
+                                        (["--protuberance-radius=-0.1"], "protuberance"),
+                                        (["--cavitation", "1.5"], "cavitation"), (["--top", "glued"], "top")])
 def test_bad_input_exits_2_naming_it(tmp_path, args, word):
     done = subprocess.run([sys.executable, "-m", "bcfem", "run", "crater-double", *args, "--out", str(tmp_path)],
                           capture_output=True, text=True)

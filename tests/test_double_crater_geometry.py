@@ -129,6 +129,22 @@ def test_cavity_volume_and_wall_areas_are_exact(name):
             assert data.mesh.geometry.x[node, :2] == pytest.approx(point, abs=1e-12), key
 
 
+@pytest.mark.mpi
+def test_without_a_protuberance_the_crater_is_a_plain_cylinder():
+    g = DoubleCraterGeometry(protuberance_radius=0.0, size_wall=0.08, size_contact=0.02, size_corner=0.02)
+    assert not g.has_protuberance and g.protuberance_volume == 0.0 and g.neck_radius == 0.0
+    assert g.crater_volume == pytest.approx(math.pi * g.r0**2 * g.crater_height, rel=1e-15)
+    data = mesh_of(g)
+    assert cavity_volume(solid(data)) == pytest.approx(g.crater_volume, rel=1e-12)  # straight walls: exact
+    measured = measures(data)
+    assert measured[ROOF] == pytest.approx(math.pi * g.r0**2, rel=1e-12) and measured[PROTUBERANCE] == 0.0
+    assert measured[SIDEWALL] == pytest.approx(g.sidewall_area, rel=1e-12)
+    comm, points = data.mesh.comm, data.ridge_tags
+    counts = {key: comm.allreduce(len(owned(data.mesh, 0, points.find(key))), op=MPI.SUM)
+              for key in (RIM, ROOF_RIM, NECK, EQUATOR, CORNER)}
+    assert counts == {RIM: 1, ROOF_RIM: 1, NECK: 0, EQUATOR: 0, CORNER: 4}
+
+
 def facet_lengths_near(data, tag, point):
     """The length of the facet of ``tag`` whose midpoint is nearest ``point``, over all ranks."""
     msh = data.mesh

@@ -30,6 +30,8 @@ RIM (21, (r0, 0) on the plate), ROOF_RIM (22, (r0, H)), NECK (23, (a_n, H)),
 CORNER (24, the ball's lowest point (0, s) and the specimen's corners),
 EQUATOR (25, (R0, z_c), the seam of OpenCASCADE's disk: a vertex on the
 ball's equator, present when the equator lies below the roof).
+With R0 = 0 there is no protuberance: a plain cylindrical crater, its roof
+spanning 0 < r < r0 (no PROTUBERANCE facets, NECK or EQUATOR points).
 Units are those of the inputs (the CLI uses mm).
 """
 
@@ -74,9 +76,9 @@ class DoubleCraterGeometry:
     Attributes:
         crater_height: H, the depth of the cylindrical crater, > 0.
         crater_radius: r0, None for 0.52 H.
-        protuberance_radius: R0, None for 0.5 H; the protuberance's widest
-            radius (R0, or the neck radius if the centre lies above the roof)
-            must be < r0.
+        protuberance_radius: R0, None for 0.5 H, 0 for none (a plain
+            cylindrical crater); the protuberance's widest radius (R0, or the
+            neck radius if the centre lies above the roof) must be < r0.
         gap: s, the height of the ball's lowest point above the plate, in
             (0, H); None for 0.03 H. The ball must reach the roof: s + 2 R0 > H.
         radius: specimen radius, > r0; None for 5 r0 (far field within 4 %).
@@ -107,12 +109,12 @@ class DoubleCraterGeometry:
         require(H > 0, f"crater_height H must be > 0 (got {H})")
         r0, R0, s = self.r0, self.R0, self.s
         require(r0 > 0, f"crater_radius r0 must be > 0 (got {r0})")
-        require(R0 > 0, f"protuberance_radius R0 must be > 0 (got {R0})")
+        require(R0 >= 0, f"protuberance_radius R0 must be >= 0 (got {R0}; 0: none)")
         require(0 < s < H, f"gap s must be in (0, H = {H:g}) (got {s}): the protuberance must "
                 "not reach the plate and must hang inside the crater")
-        require(s + 2 * R0 > H, f"protuberance_radius R0 must be > (H - s) / 2 = {(H - s) / 2:g} "
+        require(R0 == 0 or s + 2 * R0 > H, f"protuberance_radius R0 must be > (H - s) / 2 = {(H - s) / 2:g} "
                 f"(got {R0}): the ball must reach the roof to hang from it")
-        require(self.widest_radius < r0,
+        require(R0 == 0 or self.widest_radius < r0,
                 f"protuberance_radius R0 = {R0:g} must leave a gap to the sidewall: its widest radius "
                 f"{self.widest_radius:g} must be < crater_radius r0 = {r0:g}")
         require(self.specimen_radius > r0,
@@ -151,6 +153,10 @@ class DoubleCraterGeometry:
     @property
     def specimen_height(self) -> float:
         return SPECIMEN_HEIGHT * self.crater_height if self.height is None else self.height
+
+    @property
+    def has_protuberance(self) -> bool:
+        return self.R0 > 0
 
     @property
     def centre_height(self) -> float:
@@ -240,9 +246,9 @@ def build_model(geometry: DoubleCraterGeometry):
     H, r0, R0, zc = g.crater_height, g.r0, g.R0, g.centre_height
     Rs, Hs = g.specimen_radius, g.specimen_height
     box = occ.addRectangle(0, 0, 0, Rs, Hs)
-    crater = occ.addRectangle(0, 0, 0, r0, H)
-    ball = occ.addDisk(0, zc, 0, R0, R0)
-    cavity, _ = occ.cut([(2, crater)], [(2, ball)])
+    cavity = [(2, occ.addRectangle(0, 0, 0, r0, H))]
+    if g.has_protuberance:
+        cavity, _ = occ.cut(cavity, [(2, occ.addDisk(0, zc, 0, R0, R0))])
     occ.cut([(2, box)], cavity)
     occ.synchronize()
     surfaces = [tag for _, tag in gmsh.model.getEntities(2)]
@@ -272,7 +278,7 @@ def build_model(geometry: DoubleCraterGeometry):
             key = SIDEWALL
         elif abs(y - H) < eps:
             key = ROOF
-        elif abs(math.hypot(x, y - zc) - R0) < 1e-6 * R0:
+        elif g.has_protuberance and abs(math.hypot(x, y - zc) - R0) < 1e-6 * R0:
             key = PROTUBERANCE
         else:
             raise RuntimeError(f"curve {tag} at ({x:g}, {y:g}) belongs to no boundary part")
@@ -280,10 +286,13 @@ def build_model(geometry: DoubleCraterGeometry):
     names = {BOTTOM: "bottom", TOP: "top", AXIS: "axis", OUTER: "outer", SIDEWALL: "sidewall",
              ROOF: "roof", PROTUBERANCE: "protuberance"}
     for key, tags in groups.items():
-        gmsh.model.addPhysicalGroup(1, tags, key, name=names[key])
+        if tags:  # no protuberance: none
+            gmsh.model.addPhysicalGroup(1, tags, key, name=names[key])
 
-    special = {RIM: (r0, 0.0), ROOF_RIM: (r0, H), NECK: (g.neck_radius, H), EQUATOR: (R0, zc)}
-    points = {key: [] for key in special} | {CORNER: []}
+    special = {RIM: (r0, 0.0), ROOF_RIM: (r0, H)}
+    if g.has_protuberance:
+        special |= {NECK: (g.neck_radius, H), EQUATOR: (R0, zc)}
+    points = {key: [] for key in (RIM, ROOF_RIM, NECK, CORNER, EQUATOR)}
     for _, tag in gmsh.model.getEntities(0):
         x, y = gmsh.model.getValue(0, tag, [])[:2]
         key = next((k for k, (px, py) in special.items() if math.hypot(x - px, y - py) < eps), CORNER)
@@ -302,7 +311,7 @@ def build_model(geometry: DoubleCraterGeometry):
     field.setNumber(walls, "Sampling", 400)
     sizes = [_graded(field, walls, h_wall, 0.05 * H, h_far)]
     zs = g.contact_height
-    for px in (r0, g.protuberance_radius_at(zs)):
+    for px in (r0, g.protuberance_radius_at(zs)) if g.has_protuberance else ():
         near = field.add("MathEval")
         field.setString(near, "F", f"Sqrt((x - {px!r})^2 + (y - {zs!r})^2)")
         sizes.append(_graded(field, near, g.size_contact * H, 0.15 * H, h_far))

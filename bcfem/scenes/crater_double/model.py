@@ -16,7 +16,7 @@ from dolfinx import fem
 
 from bcfem.bcs import component
 from bcfem.chambers import ChamberSplit
-from bcfem.geometry.double_crater import BOTTOM, OUTER, PROTUBERANCE, ROOF, SIDEWALL, WALLS, create_mesh
+from bcfem.geometry.double_crater import BOTTOM, OUTER, PROTUBERANCE, ROOF, SIDEWALL, TOP, WALLS, create_mesh
 from bcfem.mpi import global_sum
 from bcfem.scenes.crater.model import Crater
 
@@ -33,8 +33,10 @@ class DoubleCrater(Crater):
 
     def __init__(self, params, comm):
         super().__init__(params, comm)
-        self.split = ChamberSplit(self.mesh, self.facet_tags, SIDEWALL, ROOF, PROTUBERANCE)
-        self.chambers = self.split.chambers()
+        # without a protuberance the cavity never splits
+        self.split = (ChamberSplit(self.mesh, self.facet_tags, SIDEWALL, ROOF, PROTUBERANCE)
+                      if self.geometry.has_protuberance else None)
+        self.chambers = self.split.chambers() if self.split else []
         self.chamber_volumes = [fem.form(c.volume(self.ctx.kin)) for c in self.chambers]
         X = self._wall[0]
         self._sidewall_nodes = self._on_sidewall(X) | (np.hypot(X[:, 0] - self.geometry.r0, X[:, 1])
@@ -42,11 +44,13 @@ class DoubleCrater(Crater):
         self._protuberance_nodes = self._on_protuberance(X)
 
     def _bcs(self, V, facets):
-        """The crater's; no slip of the bottom face with ``plate='sticking'``; the outer face on
-        rollers for the cell of an array (``cell='array'``)."""
+        """The crater's; no slip of the bottom face with ``plate='sticking'``, of the top face
+        with ``top='bonded'``; the outer face on rollers for the cell of an array (``cell='array'``)."""
         bcs = super()._bcs(V, facets)
         if self.params.plate == "sticking":
             bcs.append(component(V, 0, facets.find(BOTTOM)))
+        if self.params.top == "bonded":
+            bcs.append(component(V, 0, facets.find(TOP)))
         if self.params.cell == "array":
             bcs.append(component(V, 0, facets.find(OUTER)))
         return bcs
@@ -95,10 +99,12 @@ class DoubleCrater(Crater):
         self.self_contact.bond(nodes, segments)
         return self.mesh.comm.allreduce(len(nodes))
 
-    def sidewall_gap(self) -> float:
+    def sidewall_gap(self) -> float | None:
         """The least distance from a sidewall node to the protuberance's polyline (collective):
         how far the cavity is from splitting (negative values are not reported: in contact the
-        penalty's penetration is O(L / c_k))."""
+        penalty's penetration is O(L / c_k)); None without a protuberance."""
+        if not self.geometry.has_protuberance:
+            return None
         contact = self.self_contact
         x, X, segments = contact._positions(), contact.X, contact.segments
         side = x[self._on_sidewall(X)]

@@ -34,7 +34,9 @@ p_a with no vent) or vented while loading and sealed at the preload (--seal
 preload, chapter 7). One cavity holds the fluid until the sidewall touches the
 protuberance; the cavity then splits into C1 (on the plate) and C2 (under the
 roof), each sealed with its own fluid: p_i V_i = const (air), V_i = const
-(liquid). With --contact separable the chambers merge, their fluid pooled,
+(liquid). A liquid chamber cavitates where its pressure falls to
+--cavitation and holds that pressure until its vapour collapses (events
+'cavitation' and 'collapse'). With --contact separable the chambers merge, their fluid pooled,
 where the contact opens; --contact bonded keeps the touching points together
 (the dissertation's non-separable contact). Split and merge are located by
 bisection in eps and reported.
@@ -51,14 +53,16 @@ PETSc prefixes: bcfem_crater_double_load_ and bcfem_crater_double_unload_."""
 
 #: the bottom face's contact with the plate
 PLATES = ("frictionless", "sticking")
+#: the top face on the platen: free to slide, or bonded to a rigid backing
+TOPS = ("sliding", "bonded")
 #: the specimen's outer face: free (one crater) or on rollers (the cell of a confined array)
 CELLS = ("isolated", "array")
 FLUID_NAMES = ("air", "liquid")
 SEALS = ("rest", "preload")
 CONTACTS = ("separable", "bonded")
-#: the columns of ``branch.csv``
-COLUMNS = ["stage", "eps", "chambers", "p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "A_c1_over_A0", "F_tilde",
-           "sidewall_gap", "fluid_law_residual"]
+#: the columns of ``branch.csv`` ("vapour": how many chambers hold a cavitated liquid)
+COLUMNS = ["stage", "eps", "chambers", "vapour", "p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "A_c1_over_A0",
+           "F_tilde", "sidewall_gap", "fluid_law_residual"]
 
 
 def _help(text: str, unit: str = "1", choices=None) -> dict:
@@ -72,6 +76,10 @@ class Params:
     preload: float = field(default=0.14, metadata=_help("eps = -dL/L at the end of loading, in (0, 0.9)"))
     fluid: str = field(default="air", metadata=_help(
         "air (ideal gas, p V = const in each chamber) or liquid (incompressible, V = const)", "", FLUID_NAMES))
+    cavitation: float = field(default=0.023, metadata=_help(
+        "p_v / p_a, in (-inf, 1): a liquid chamber whose pressure falls to it cavitates and holds "
+        "it, its volume free, until the vapour collapses (0.023: water's vapour pressure at 20 C; "
+        "-inf: no cavitation); not used for air"))
     seal: str = field(default="rest", metadata=_help(
         "when the crater is sealed: at rest (the dissertation) or at the preload (vented loading)", "", SEALS))
     contact: str = field(default="separable", metadata=_help(
@@ -80,12 +88,16 @@ class Params:
     plate: str = field(default="sticking", metadata=_help(
         "the bottom face on the plate: frictionless (slides) or sticking (no slip); the crater's "
         "walls on the plate slide either way", "", PLATES))
+    top: str = field(default="sliding", metadata=_help(
+        "the top face on the platen: sliding (frictionless) or bonded (no slip: a specimen on a rigid "
+        "backing)", "", TOPS))
     cell: str = field(default="isolated", metadata=_help(
         "the specimen's outer face: isolated (free) or array (on rollers: the axisymmetric cell of a "
         "laterally confined array of craters at spacing 2 x specimen-radius)", "", CELLS))
     crater_radius: float = field(default=CRATER_RADIUS, metadata=_help("r0 / H, > R0 / H"))
     protuberance_radius: float = field(default=PROTUBERANCE_RADIUS, metadata=_help(
-        "R0 / H, in ((1 - s/H) / 2, r0/H): the ball reaches the roof and leaves a gap to the sidewall"))
+        "R0 / H, in ((1 - s/H) / 2, r0/H): the ball reaches the roof and leaves a gap to the "
+        "sidewall; 0: no protuberance (a plain cylindrical crater, one chamber)"))
     gap: float = field(default=GAP, metadata=_help("s / H, the protuberance above the plate, in (0, 1)"))
     specimen_radius: float = field(default=SPECIMEN_RADIUS, metadata=_help("specimen radius over r0, > 1"))
     specimen_height: float = field(default=SPECIMEN_HEIGHT, metadata=_help("specimen height over H, > 1"))
@@ -113,9 +125,11 @@ class Params:
     def __post_init__(self):
         require(0 < self.preload < 0.9, f"preload must be in (0, 0.9) (got {self.preload})")
         for name, choices in (("fluid", FLUID_NAMES), ("seal", SEALS), ("contact", CONTACTS),
-                              ("plate", PLATES), ("cell", CELLS)):
+                              ("plate", PLATES), ("top", TOPS), ("cell", CELLS)):
             require(getattr(self, name) in choices, f"{name} must be one of {list(choices)} "
                     f"(got {getattr(self, name)!r})")
+        require(not math.isnan(self.cavitation) and self.cavitation < 1,
+                f"cavitation must be in (-inf, 1) (got {self.cavitation})")
         require(self.beta > 0 and math.isfinite(self.beta), f"beta must be > 0 (got {self.beta})")
         require(10 <= self.kappa_ratio <= 1e8, f"kappa-ratio must be in [10, 1e8] (got {self.kappa_ratio})")
         require(0 <= self.surface_energy <= 0.1, f"surface-energy must be in [0, 0.1] (got {self.surface_energy})")

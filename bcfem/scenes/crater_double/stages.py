@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from bcfem.fluids import FLUIDS
+from bcfem.fluids import FLUIDS, HeldPressure
 from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
 from bcfem.scenes.crater.report import classify
@@ -43,24 +43,27 @@ class DoubleCraterCycle:
         self.shapes: list[dict] = []
 
     # -- the chambers ---------------------------------------------------------------------
+    def _names(self) -> tuple[str, ...]:
+        return (ONE,) if self.chambers == 1 else (C1, C2)
+
     def _fluids(self) -> list:
-        """The sealed fluids of the chambers as they are (none while vented)."""
+        """The sealed fluids of the chambers as they are (none while vented); a cavitated
+        liquid holds the vapour pressure."""
         if not self.sealed:
             return []
-        fluid = FLUIDS[self.params.fluid]
-        if len(self.amounts) == 1:
-            return [fluid(self.model.cavity, self.amounts[0], ONE)]
-        return [fluid(chamber, n, name) for chamber, n, name in zip(self.model.chambers, self.amounts, (C1, C2))]
+        fluid, held = FLUIDS[self.params.fluid], self.params.cavitation
+        cavities = [self.model.cavity] if self.chambers == 1 else self.model.chambers
+        return [HeldPressure(c, held, name) if vapour else fluid(c, n, name)
+                for c, n, name, vapour in zip(cavities, self.amounts, self._names(), self.vapour)]
 
     def pressures(self) -> tuple[float, float]:
         """(p_c1, p_c2) / p_a; one cavity: its pressure twice."""
         if not self.sealed:
             return 1.0, 1.0
         states = self.model.ctx.states
-        if len(self.amounts) == 1:
-            p = real_value(states[ONE])
-            return p, p
-        return real_value(states[C1]), real_value(states[C2])
+        p = [self.params.cavitation if vapour else real_value(states[name])
+             for name, vapour in zip(self._names(), self.vapour)]
+        return (p[0], p[0]) if self.chambers == 1 else (p[0], p[1])
 
     def volumes(self) -> tuple[float, float]:
         """(V_C1, V_C2); one cavity: (V, 0)."""
@@ -72,9 +75,9 @@ class DoubleCraterCycle:
         return p * V if self.params.fluid == "air" else V
 
     def _set_pressures(self, values) -> None:
-        names = (ONE,) if len(values) == 1 else (C1, C2)
-        for name, p in zip(names, values):
-            self.model.ctx.real_state(name).x.array[:] = p
+        for name, p, vapour in zip(self._names(), values, self.vapour):
+            if not vapour:
+                self.model.ctx.real_state(name).x.array[:] = p
 
     def _seal(self) -> None:
         """Seal each chamber with its fluid at p_a (the vented loading's end)."""
@@ -83,13 +86,14 @@ class DoubleCraterCycle:
         self.amounts = [self._amount(1.0, v) for v in V]
         self._set_pressures([1.0] * self.chambers)
 
-    def _split(self, eps: float, heights) -> dict:
+    def _split(self, eps: float) -> dict:
         model = self.model
         p = self.pressures()[0]
-        V1, V2 = model.split_at(heights)
-        self.chambers = 2
-        if self.sealed:
-            self.amounts = [self._amount(p, V1), self._amount(p, V2)]
+        V1, V2 = model.split_at(model.sidewall_contact())
+        self.chambers, self.vapour = 2, self.vapour * 2
+        if self.sealed:  # a cavitated liquid: each chamber keeps its share of the liquid
+            share = self.amounts[0] / (V1 + V2)
+            self.amounts = [share * V1, share * V2] if self.vapour[0] else [self._amount(p, V1), self._amount(p, V2)]
             self._set_pressures([p, p])
         bonded = model.bond_split() if self.params.contact == "bonded" else 0
         Zw, Zb = (float(model.split.sidewall_height.value), float(model.split.protuberance_height.value))
@@ -98,27 +102,56 @@ class DoubleCraterCycle:
 
     def _merge(self, eps: float) -> dict:
         (p1, p2), (V1, V2) = self.pressures(), self.volumes()
-        self.chambers = 1
+        self.chambers, self.vapour = 1, [any(self.vapour)]
         if self.sealed:
             self.amounts = [sum(self.amounts)]
             self._set_pressures([(p1 * V1 + p2 * V2) / (V1 + V2)])
         return {"eps": eps, "p_c1_over_pa": p1, "p_c2_over_pa": p2, "V_c1": V1 / self.V0, "V_c2": V2 / self.V0}
 
-    def _changed(self) -> bool:
-        """The sidewall touches the protuberance (one chamber) or left it (two, separable)."""
+    def _phase_change(self, eps: float, kind: str) -> dict:
+        """A liquid chamber cavitates (its pressure reached p_v) or its vapour collapses (its
+        volume fell back to the liquid's)."""
+        (p1, p2), (V1, V2) = self.pressures(), self.volumes()
+        chamber = next(i for i in range(self.chambers) if self._phase_changes(i))
+        self.vapour[chamber] = kind == "cavitation"
+        if kind == "collapse":  # the liquid's pressure starts from the vapour's
+            self.model.ctx.real_state(self._names()[chamber]).x.array[:] = self.params.cavitation
+        return {"eps": eps, "chamber": ("C1", "C2")[chamber] if self.chambers == 2 else "one",
+                "p_c1_over_pa": p1, "p_c2_over_pa": p2, "V_c1": V1 / self.V0, "V_c2": V2 / self.V0}
+
+    def _phase_changes(self, i: int) -> bool:
+        """Chamber i cavitates (liquid below p_v) or its vapour collapses (V below the liquid's)."""
+        if not (self.sealed and self.params.fluid == "liquid"):
+            return False
+        if self.vapour[i]:
+            return self.volumes()[i] < self.amounts[i]
+        return self.pressures()[i] < self.params.cavitation
+
+    def _change(self) -> str | None:
+        """The change of the chambers in this state: the sidewall touches the protuberance
+        (split), left it (merge, separable contact only), a liquid cavitates or its vapour
+        collapses; None if they stay as they are."""
         touching = self.model.sidewall_contact() is not None
-        return touching if self.chambers == 1 else (not touching and self.params.contact == "separable")
+        if self.chambers == 1 and touching:
+            return "split"
+        if self.chambers == 2 and not touching and self.params.contact == "separable":
+            return "merge"
+        for i in range(self.chambers):
+            if self._phase_changes(i):
+                return "collapse" if self.vapour[i] else "cavitation"
+        return None
 
     # -- observables ----------------------------------------------------------------------
     def observe(self, stage: str, eps: float) -> dict:
         (p1, p2), (V1, V2) = self.pressures(), self.volumes()
         A = self.model.wetted_area() / self.A0
-        row = {"stage": stage, "eps": eps, "chambers": self.chambers, "p_c1_over_pa": p1, "p_c2_over_pa": p2,
+        row = {"stage": stage, "eps": eps, "chambers": self.chambers, "vapour": sum(self.vapour),
+               "p_c1_over_pa": p1, "p_c2_over_pa": p2,
                "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "A_c1_over_A0": A, "F_tilde": (1 - p1) * A,
                "sidewall_gap": self.model.sidewall_gap(), "fluid_law_residual": None}
-        if self.sealed:  # each fluid's law: p V = n (air) or V = n (liquid)
-            laws = [(p if self.params.fluid == "air" else 1.0) * V / n - 1
-                    for p, V, n in zip((p1, p2), (V1, V2), self.amounts)]
+        if self.sealed:  # each fluid's law: p V = n (air) or V = n (liquid); vapour: p = p_v
+            laws = [0.0 if vapour else (p if self.params.fluid == "air" else 1.0) * V / n - 1
+                    for p, V, n, vapour in zip((p1, p2), (V1, V2), self.amounts, self.vapour)]
             row["fluid_law_residual"] = max(abs(r) for r in laws)
         return row
 
@@ -135,7 +168,7 @@ class DoubleCraterCycle:
         run.watch([model.u])
         self.V0 = global_sum(model.volume)
         self.A0 = math.pi * model.geometry.r0**2
-        self.chambers, self.sealed = 1, False
+        self.chambers, self.sealed, self.vapour = 1, False, [False]
         self.events: list[dict] = []
         self.topology: list[dict] = []
         run.results.update(instabilities=self.events, split=None, merge=None)
@@ -178,28 +211,32 @@ class DoubleCraterCycle:
                 before = path.mark(start)
 
                 def accept(eps):
-                    if self._changed():
+                    if self._change():
                         return True
                     run.record(self.observe(stage, eps))
                     before.update(path.mark(eps))
                     return False
 
                 reached = path.through(start, end, params.strain_step, accept)
-                if not self._changed():
+                if not self._change():
                     return
-                eps = path.bisect(before, reached, lambda _: self._changed(), BISECTIONS)
+                eps = path.bisect(before, reached, lambda _: self._change() is not None, BISECTIONS)
                 bracket = abs(path.bracket[1] - path.bracket[0])
-                if self.chambers == 1:
-                    event = {"stage": stage, "kind": "split", "bracket": bracket,
-                             **self._split(eps, model.sidewall_contact())}
-                    run.results["split"] = run.results["split"] or event
-                    fresh = False
+                kind = self._change()
+                if kind == "split":
+                    event = self._split(eps)
+                elif kind == "merge":
+                    event = self._merge(eps)
                 else:
-                    event = {"stage": stage, "kind": "merge", "bracket": bracket, **self._merge(eps)}
-                    run.results["merge"] = run.results["merge"] or event
-                    fresh = True
+                    event = self._phase_change(eps, kind)
+                event = {"stage": stage, "kind": kind, "bracket": bracket, **event}
+                if kind in ("split", "merge"):
+                    run.results[kind] = run.results[kind] or event
+                # a split leaves the state as it is; a merge pools the fluids and a phase change
+                # swaps a chamber's law, so the state is solved again
+                fresh = kind != "split"
                 self.topology.append(event)
-                progress(f"{stage}: chambers {event['kind']} at eps = {eps:.6g}")
+                progress(f"{stage}: {event['kind']} at eps = {eps:.6g}")
                 self._shape(event["kind"], eps)
                 if not fresh:
                     run.record(self.observe(stage, eps))
@@ -212,9 +249,12 @@ class DoubleCraterCycle:
             "eps_contact": split["eps"] if split else None,
             "p_c1_over_pa": final["p_c1_over_pa"], "p_c2_over_pa": final["p_c2_over_pa"],
             "V_c1": final["V_c1"], "V_c2": final["V_c2"], "F_tilde": final["F_tilde"],
-            "least_sidewall_gap": min(r["sidewall_gap"] for r in run.rows),
+            "least_sidewall_gap": min((r["sidewall_gap"] for r in run.rows if r["sidewall_gap"] is not None),
+                                      default=None),
             "F_tilde_per_chamber": {"C1": final["F_tilde"], "C2": 0.0 if final["chambers"] == 2 else None},
-            "chamber_events": self.topology, "stability": classify(self.events),
+            "chamber_events": self.topology,
+            "cavitation": next((e for e in self.topology if e["kind"] == "cavitation"), None),
+            "stability": classify(self.events),
             "fluid_law_residual": max((r["fluid_law_residual"] for r in run.rows
                                        if r["fluid_law_residual"] is not None), default=None),
             "V0": self.V0})
