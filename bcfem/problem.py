@@ -103,6 +103,7 @@ class Problem:
         self._timing_outside = 0
         #: Newton solves that did not converge (each is a cut-back or a retry)
         self.failed_solves = 0
+        self._first_norm = None  # the residual norm at the start of a solve (divergence test)
         self._wrap_assembly()
 
     def _wrap_assembly(self) -> None:
@@ -124,6 +125,7 @@ class Problem:
             for term in self.discrete:
                 term.add_residual(f)
             count(t0, t1)
+            self._guard_divergence(f)
 
         def tangent(snes, x, J, Pmat):
             t0 = perf_counter()
@@ -135,6 +137,19 @@ class Problem:
 
         self.snes.setFunction(function, b)
         self.snes.setJacobian(tangent, A, P)
+
+    def _guard_divergence(self, f: PETSc.Vec) -> None:
+        """PETSc's divergence test, which vinewtonrsls does not apply: a residual grown past
+        ``snes_divergence_tolerance`` (-3, PETSC_UNLIMITED: off) times the solve's first is reported as NaN, so the
+        solve stops (DIVERGED_FNORM_NAN) or the line search backs off, rather than iterating
+        to ``snes_max_it`` on a diverging path."""
+        norm = f.norm()
+        if self._first_norm is None:
+            self._first_norm = norm
+            return
+        divtol = self.snes.getDivergenceTolerance()
+        if divtol > 0 and norm > divtol * max(self._first_norm, np.finfo(float).tiny):
+            f.set(np.nan)
 
     @contextmanager
     def timed(self, key: str):
@@ -286,6 +301,7 @@ class Problem:
         return f"SNES reason {self.reason}"
 
     def _snes_solve(self, x: PETSc.Vec) -> None:
+        self._first_norm = None
         for term in self.discrete:
             if hasattr(term, "begin_solve"):
                 term.begin_solve()

@@ -67,6 +67,10 @@ class LoadPath:
         check_stability: count unstable modes after each accepted step.
         waves: None, or a callable giving {n: unstable modes with n waves} at the current
             state (checked with the axisymmetric count).
+        predict: start Newton from the secant through the last two accepted states.
+        adapt_steps: size the next step by this one's Newton iterations (:meth:`_growth`)
+            rather than growing it by 1.5 always.
+        Both change where a path that loses stability lands, so they are off by default.
     """
 
     problem: object
@@ -86,10 +90,33 @@ class LoadPath:
     unstable_waves: tuple = ()
     snaps: int = 0
     bracket: tuple | None = None
+    predict: bool = False
+    adapt_steps: bool = False
+    _previous: tuple | None = field(default=None, init=False, repr=False)
 
     def solve_at(self, value: float, fallbacks: bool) -> bool:
         self.set_load(value)
         return self.problem.solve(fallbacks=fallbacks)
+
+    @staticmethod
+    def _growth(iterations: int) -> float:
+        """The next step over this one, from Newton's iterations for this one: grow while it
+        converges fast, hold and then shrink as it slows (a step that takes most of
+        ``snes_max_it`` is close to one that fails, and a failure costs them all)."""
+        return 1.5 if iterations <= 6 else 1.0 if iterations <= 10 else 0.5
+
+    def _predict(self, current: float, trial: float) -> None:
+        """From the last accepted state at ``current``, step along the secant through the one
+        before it towards ``trial`` (states only: the load is set by the solve). Nothing to
+        extrapolate after a start, a rewind or a snap."""
+        previous = self._previous
+        self.problem.restore(self._saved)
+        if not self.predict or previous is None or previous[0] == current:
+            return
+        ratio = (trial - current) / (current - previous[0])
+        if not 0 < ratio <= 2:  # only on along the way the path came, and not far
+            return
+        self.problem.restore([now + ratio * (now - before) for now, before in zip(self._saved, previous[1])])
 
     def advance(self, start: float, target: float, step: float,
                 on_accept: Callable[[float], bool | None] | None = None) -> float:
@@ -106,7 +133,10 @@ class LoadPath:
             # the problem's line-search fallbacks only once cutting the step has not helped:
             # where a cut step converges, a line search may instead land on another branch
             stuck = step < first * 0.5**self.cuts_before_relax
+            self._predict(current, trial)
             ok = self.solve_at(trial, fallbacks=stuck)
+            if not ok:
+                self.problem.restore(self._saved)
             snapped = False
             # a relaxation that failed from this state would fail again: it goes to the same load
             if not ok and stuck and self.viscosity is not None \
@@ -138,10 +168,11 @@ class LoadPath:
                         + (f"; {rejected} converged states on the way were rejected, the last as: "
                            f"{self.problem.last_rejection}" if rejected else ""), current)
                 continue
+            self._previous = None if snapped else (current, self._saved)
             current = trial
             self._saved = self.problem.save()
             if not snapped:
-                step *= 1.5
+                step *= self._growth(self.problem.iterations) if self.adapt_steps else 1.5
             self._check_stability(current)
             progress(f"{self.stage} {current:.5f}  its={self.problem.iterations}  unstable={self.unstable}"
                      f"  snaps={self.snaps}" + ("  (snap)" if snapped else ""))
@@ -218,7 +249,7 @@ class LoadPath:
         from it (a bisection, a root search) neither count their snaps twice nor report
         events the final path did not pass. Returns the mark's load."""
         self.problem.restore(mark["state"])
-        self._saved = self.problem.save()
+        self._saved, self._previous = self.problem.save(), None
         self.set_load(mark["value"])
         self.snaps, self.unstable, self.unstable_waves = mark["snaps"], mark["unstable"], mark["waves"]
         del self.events[mark["events"]:]
@@ -226,7 +257,7 @@ class LoadPath:
 
     def start(self) -> None:
         """Take the current state as the first accepted one."""
-        self._saved = self.problem.save()
+        self._saved, self._previous = self.problem.save(), None
         if self.check_stability:
             self.unstable = unstable_modes(self.problem, self.multipliers)
             if self.waves is not None:

@@ -197,3 +197,23 @@ def test_a_term_can_bound_the_newton_step(bounded):
         assert (problem.bounded_steps > 0) == bounded
         if bounded:
             assert abs(problem.state("x").x.array[0]) < 1e-10
+
+
+@pytest.mark.parametrize("divtol", [None, -3.0])
+def test_a_residual_grown_past_the_divergence_tolerance_stops_the_solve(divtol):
+    """vinewtonrsls applies no divergence test: the residual callback does. A residual over
+    snes_divergence_tolerance (PETSc's 1e4 unless the user sets it; PETSC_UNLIMITED, -3: off) times the
+    solve's first is reported as NaN, so SNES stops rather than iterate to snes_max_it."""
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 4)
+    ctx = Context(fem.Function(fem.functionspace(msh, ("Lagrange", 1))))
+    options = {} if divtol is None else {"snes_divergence_tolerance": divtol}
+    with Problem(ctx, [Arctan()], [], "bcfem_test_divergence_", options) as problem:
+        assert problem.snes.getDivergenceTolerance() == (1e4 if divtol is None else divtol)
+        f = problem.new_vector()
+        problem._first_norm = None  # as at the start of a solve
+        for value, grown in ((1e-6, False), (1e-3, False), (1.0, divtol is None)):
+            problem.state("x").x.array[:] = value
+            x = problem.vector_from(problem.states)
+            problem.snes.computeFunction(x, f)
+            # arctan(1) = 0.785 > 1e4 * arctan(1e-6); arctan(1e-3) is 1e3 times the first
+            assert np.isnan(f.norm()) == grown

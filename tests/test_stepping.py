@@ -226,3 +226,45 @@ def test_root_locates_a_zero_of_the_state_from_a_mark():
     root = path.root(mark, 0.2, f, xtol=1e-12)
     assert root == pytest.approx(np.sqrt(0.05), abs=1e-11)
     assert np.all(problem.u == root) and set(starts) == {0.3}
+
+
+class Recording(Quadratic):
+    """Records the state each solve starts from, and takes ``its`` Newton iterations."""
+
+    def __init__(self, its=1):
+        super().__init__()
+        self.starts, self.iterations = [], its
+
+    def solve(self, fallbacks=True):
+        self.starts.append(self.u[0])
+        return super().solve(fallbacks)
+
+
+@pytest.mark.parametrize("predict", [False, True])
+def test_the_secant_predictor_starts_newton_on_the_line_through_the_last_two_states(predict):
+    problem = Recording()
+    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", check_stability=False,
+                    predict=predict)
+    path.start()
+    path.advance(0.0, 0.3, 0.1)  # steps 0.1, 0.15 (grown by 1.5), then 0.05 to the end
+    # without: each solve starts from the last state; with: on the secant, exact here (u = load)
+    # from the second step on (the first has only the start state)
+    expected = [0.0, 0.25, 0.3] if predict else [0.0, 0.1, 0.25]
+    assert problem.starts == pytest.approx(expected, abs=1e-15)
+    # a rewind forgets the secant: the next step starts from the mark
+    mark = path.mark(0.3)
+    path.rewind(mark)
+    path.advance(0.3, 0.4, 0.1)
+    assert problem.starts[-1] == pytest.approx(0.3, abs=1e-15)
+
+
+@pytest.mark.parametrize("its, growth", [(3, 1.5), (8, 1.0), (16, 0.5)])
+def test_adapted_steps_follow_newtons_iterations(its, growth):
+    problem = Recording(its)
+    loads = []
+    path = LoadPath(problem, lambda v: (setattr(problem, "load", v), loads.append(v)), "load",
+                    check_stability=False, adapt_steps=True)
+    path.start()
+    path.advance(0.0, 1.0, 0.1, lambda v: len(loads) >= 3)
+    steps = np.diff([0.0, *loads[:3]])
+    assert steps[1:] == pytest.approx(0.1 * growth ** np.arange(1, 3), rel=1e-12)
