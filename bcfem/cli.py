@@ -220,7 +220,10 @@ def _sweep(parser, args, module, params, comm) -> int:
     configure(comm, quiet=args.quiet)
     rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm, retry_failed=args.retry_failed)
     title = f"{args.scene}: {studies.SWEEP['title']}"
-    varying = [name for name, values in axes if len(values) > 1]  # one-value axes are constants
+    # one-value axes are constants; an axis of words is a set of curves or maps, not drawn
+    varying = [name for name, values in axes if len(values) > 1]
+    if any(isinstance(values, list) for _, values in axes):
+        varying = []
     plot = {1: "curves.png", 2: "maps.png"}.get(len(varying))
     if len(varying) == 1:
         sweep.curves(rows, varying[0], studies.SWEEP["maps"], title, args.out / plot, comm)

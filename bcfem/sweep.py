@@ -37,8 +37,9 @@ from bcfem.log import logger
 RECORD_ONLY = {"budgets", "solve_time_s"}
 
 
-def parse_axis(text: str) -> tuple[str, np.ndarray]:
-    """``name=start:stop:count`` (inclusive, linear) or ``name=v1,v2,...``."""
+def parse_axis(text: str) -> tuple[str, np.ndarray | list]:
+    """``name=start:stop:count`` (inclusive, linear) or ``name=v1,v2,...`` (numbers, or the
+    words of a choice such as ``contact=separable,bonded``)."""
     if "=" not in text:
         raise ValueError(f"a grid axis is name=start:stop:count or name=v1,v2,... (got {text!r})")
     name, spec = text.split("=", 1)
@@ -51,7 +52,11 @@ def parse_axis(text: str) -> tuple[str, np.ndarray]:
         if count < 1:
             raise ValueError(f"grid {name}: count must be >= 1 (got {count})")
         return name, np.linspace(start, stop, count)
-    return name, np.array([float(v) for v in spec.split(",")])
+    values = [v.strip() for v in spec.split(",")]
+    try:
+        return name, np.array([float(v) for v in values])
+    except ValueError:
+        return name, values
 
 
 def parse_range(name: str, spec: str) -> np.ndarray:
@@ -72,7 +77,7 @@ def point_key(values: dict, params=None) -> str:
     """File name of a point: its grid values, plus a digest of every other parameter, so a
     rerun with different settings never reuses stale points. Solver budgets (the params'
     ``BUDGETS``) are left out: they decide whether a point gets through, not its result."""
-    key = "_".join(f"{k}={v:.12g}" for k, v in sorted(values.items()))
+    key = "_".join(f"{k}={v if isinstance(v, str) else format(v, '.12g')}" for k, v in sorted(values.items()))
     if params is None:
         return key
     import hashlib
@@ -93,7 +98,7 @@ def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
             raise ValueError(f"grid parameter {name!r} is not a parameter of the scene")
     points = []
     for combo in itertools.product(*(a[1] for a in axes)):
-        values = dict(zip(names, (float(v) for v in combo)))
+        values = dict(zip(names, (v if isinstance(v, str) else float(v) for v in combo)))
         points.append((values, dataclasses.replace(base, **values)))
     return points
 

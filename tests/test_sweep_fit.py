@@ -205,3 +205,18 @@ def test_map_points_trace_one_compiled_blister(monkeypatch):
         assert got["onset"] and want["onset"]
         for key in blister_studies.MAP_COLUMNS:
             assert got[key[0]] == pytest.approx(want[key[0]], rel=1e-10, abs=0)
+
+
+def test_a_grid_axis_of_words_sweeps_a_choice():
+    from bcfem.scenes import crater_double
+
+    name, words = sweep.parse_axis("contact=separable,bonded")
+    assert name == "contact" and words == ["separable", "bonded"]
+    axes = [(name, words), sweep.parse_axis("preload=0.02,0.05")]
+    points = sweep.grid_points(crater_double.Params(), axes)
+    assert [(p.contact, p.preload) for _, p in points] == [("separable", 0.02), ("separable", 0.05),
+                                                          ("bonded", 0.02), ("bonded", 0.05)]
+    keys = {sweep.point_key(values, params) for values, params in points}
+    assert len(keys) == 4 and any("contact=bonded" in k for k in keys)
+    with pytest.raises(ValueError, match="contact"):
+        sweep.grid_points(crater_double.Params(), [sweep.parse_axis("contact=glued")])

@@ -35,17 +35,19 @@ preload, chapter 7). One cavity holds the fluid until the sidewall touches the
 protuberance; the cavity then splits into C1 (on the plate) and C2 (under the
 roof), each sealed with its own fluid: p_i V_i = const (air), V_i = const
 (liquid). A liquid chamber cavitates where its pressure falls to
---cavitation and holds that pressure until its vapour collapses (events
-'cavitation' and 'collapse'). With --contact separable the chambers merge, their fluid pooled,
-where the contact opens; --contact bonded keeps the touching points together
-(the dissertation's non-separable contact). Split and merge are located by
-bisection in eps and reported.
+--cavitation, and holds that pressure until its vapour collapses (events
+'cavitation' and 'collapse'). With --contact separable the chambers merge,
+their fluid pooled, where the contact opens; --contact bonded keeps the
+touching points together (the dissertation's non-separable contact). Splits,
+merges and phase changes are located by bisection in eps and reported. With
+--protuberance-radius 0 the crater is a plain cylinder, one chamber throughout.
 
 Units and normalisations:
   lengths        over the crater height H; pressures over p_a; beta = mu / p_a
   preload eps    = -dL / L of the specimen
   V_c1, V_c2     chamber volumes over the cavity's volume at rest V0
   sidewall_gap   least distance from the sidewall to the protuberance, over H
+  vapour         how many chambers hold a cavitated liquid
   F_tilde        = (p_a - p_c1) A_c1 / (p_a A0), A0 = pi r0^2: the net fluid force on
                    the specimen (C2 is enclosed by the specimen and pulls on nothing
                    outside it); A_c1 is the plate's area wetted by C1
