@@ -42,7 +42,7 @@ from bcfem import (
 )
 from bcfem.cavity import Cavity
 from bcfem.energies import SolidStrain, SolidSurfaceEnergy, WettedSubstrate
-from bcfem.fluids import IdealGas, IncompressibleLiquid, Vacuum
+from bcfem.fluids import HeldPressure, IdealGas, IncompressibleLiquid, Vacuum
 from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.problem import Problem
 from bcfem.relaxation import Viscosity
@@ -95,9 +95,12 @@ TERMS = {
     "ideal-gas": ("solid", lambda ctx: IdealGas(Cavity(CAVITY), sealed_volume=2.5)),
     "incompressible-liquid": ("solid", lambda ctx: IncompressibleLiquid(Cavity(CAVITY), sealed_volume=2.5)),
     "vacuum": ("solid", lambda ctx: Vacuum(Cavity(CAVITY))),
+    "held-pressure": ("solid", lambda ctx: HeldPressure(Cavity(CAVITY), HELD)),
     "viscosity": ("solid", lambda ctx: Viscosity(ctx.u)),
 }
 
+#: a cavity's held pressure (a liquid's vapour pressure, over p_a)
+HELD = 0.023
 #: values of the states and run-time constants in the Taylor tests (where a term uses them)
 REAL_STATES = {"pressure": 1.3, "fluid_pressure": 1.4}
 CONSTANTS = {"volume_target": 0.3, "viscosity": 1.7, "vacuum_load": 0.6}
@@ -256,6 +259,7 @@ HOMOGENEOUS = {
     "ideal-gas": lambda: -(P_FLUID - 1) * cavity_volume() + V1 * math.log(P_FLUID),
     "incompressible-liquid": lambda: -(P_FLUID - 1) * (cavity_volume() - V1),
     "vacuum": lambda: SUCTION * cavity_volume(),
+    "held-pressure": lambda: -(HELD - 1) * cavity_volume(),
     "viscosity": viscosity_energy,
 }
 
