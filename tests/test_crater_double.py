@@ -109,3 +109,31 @@ def test_the_sidewall_on_the_protuberance_is_the_split():
                                                  * np.exp(-(((x[1] - zc) / 0.1) ** 2)), 0 * x[0]]))
         Zw, Zb = model.sidewall_contact()
     assert abs(Zw - zc) <= h and abs(Zb - zc) <= 2 * h
+
+
+@pytest.mark.parametrize("top", ["sliding", "bonded"])
+def test_a_bonded_top_face_does_not_slip_on_the_platen(top):
+    """Pressed by 2 %, the top face spreads on a sliding platen (incompressible: by about
+    eps/2 of its radius at the rim) and stays put where it is bonded to the backing."""
+    import numpy as np
+    from dolfinx import fem
+
+    from bcfem.geometry.double_crater import TOP
+    from bcfem.scenes.crater_double.model import DoubleCrater
+    from bcfem.stepping import LoadPath
+
+    model = DoubleCrater(Params(size_wall=0.08, size_contact=0.02, top=top), MPI.COMM_SELF)
+    with Problem(model.ctx, model.terms(), model.bcs, f"bcfem_test_top_{top}_", {"snes_type": "vinewtonrsls"},
+                 energy_scale=model.energy_scale) as problem:
+        model.contact_bounds(problem)
+        path = LoadPath(problem, model.set_platen, "load", model.viscosity, 1.0, load_name="eps")
+        path.start()
+        assert path.through(0.0, 0.02, 0.02) == 0.02
+    V = model.u.function_space
+    dofs = fem.locate_dofs_topological(V, 1, model.facet_tags.find(TOP))
+    slip = np.abs(model.u.x.array.reshape(-1, 2)[dofs, 0]).max()
+    rim = model.geometry.specimen_radius
+    if top == "bonded":
+        assert slip == 0.0
+    else:
+        assert 0.2 * 0.01 * rim < slip < 2 * 0.01 * rim
