@@ -115,6 +115,19 @@ def test_a_liquid_cavitates_at_its_vapour_pressure_and_holds_it():
     assert summary["F_tilde"] == pytest.approx((1 - p_v) * rows[-1]["A_c1_over_A0"], rel=1e-12)
 
 
+@pytest.mark.slow
+def test_the_wave_check_watches_without_changing_the_path():
+    """--waves scans the n-wave modes after every step: the path is the same, the check's
+    time is spent, and the cell keeps its symmetry (no n-wave mode is unstable)."""
+    rows, summary = cycle(waves=2)
+    reference, unchecked = cycle()
+    assert [r["chambers"] for r in rows] == [r["chambers"] for r in reference]
+    for key in ("eps", "p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2"):
+        assert [r[key] for r in rows] == pytest.approx([r[key] for r in reference], rel=1e-12)
+    assert unchecked["symmetry_breaking"] is None and summary["symmetry_breaking"] == {}
+    assert summary["time_split_s"]["stability"] > 2 * unchecked["time_split_s"]["stability"]
+
+
 @pytest.mark.mpi
 @pytest.mark.slow
 def test_two_ranks_equal_serial():

@@ -41,6 +41,8 @@ their fluid pooled, where the contact opens; --contact bonded keeps the
 touching points together (the dissertation's non-separable contact). Splits,
 merges and phase changes are located by bisection in eps and reported. With
 --protuberance-radius 0 the crater is a plain cylinder, one chamber throughout.
+With --waves N the modes with n = 1..N circumferential waves are checked after
+every step (events of kind 'waves'; 'symmetry_breaking' in summary.json).
 
 Units and normalisations:
   lengths        over the crater height H; pressures over p_a; beta = mu / p_a
@@ -117,11 +119,13 @@ class Params:
         "platen strain between checkpoints, in (0, 0.1] (failed steps are halved)"))
     max_snaps: int = field(default=24, metadata=_help(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage, 0 to 1000", ""))
+    waves: int = field(default=0, metadata=_help(
+        "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step, "
+        "0 (off) to 400", ""))
 
-    #: no lining (the crater model's reinforcement layer) and no wave check
+    #: no lining (the crater model's reinforcement layer)
     layer_thickness: ClassVar[float] = 0.0
     layer_stiffness: ClassVar[float] = 1.0
-    waves: ClassVar[int] = 0
     BUDGETS: ClassVar[tuple] = ("max_snaps",)
 
     def __post_init__(self):
@@ -141,6 +145,8 @@ class Params:
         require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
         require(self.max_snaps == int(self.max_snaps) and 0 <= self.max_snaps <= 1000,
                 f"max-snaps must be an integer in [0, 1000] (got {self.max_snaps})")
+        require(self.waves == int(self.waves) and 0 <= self.waves <= 400,
+                f"waves must be an integer in [0, 400] (got {self.waves})")
         require(self.specimen_radius > 1, f"specimen-radius (over r0) must be > 1 (got {self.specimen_radius})")
         require(self.specimen_height > 1, f"specimen-height (over H) must be > 1 (got {self.specimen_height})")
         self.geometry()  # a protuberance that does not fit, s <= 0, R0 >= r0: ValueError naming it

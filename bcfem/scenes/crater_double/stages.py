@@ -17,7 +17,7 @@ import math
 from bcfem.fluids import FLUIDS, HeldPressure
 from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
-from bcfem.scenes.crater.report import classify
+from bcfem.scenes.crater.report import classify, symmetry_breaking
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 from bcfem.scenes.crater_double.model import DoubleCrater
 from bcfem.scenes.crater_double.params import COLUMNS, Params
@@ -193,12 +193,13 @@ class DoubleCraterCycle:
         fresh = settle  # also after a merge, which pools the fluids: the state must be re-solved
         while True:
             kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
-            with run.stage(stage, model.ctx, model.terms(*self._fluids()), model.bcs,
-                           {"snes_type": "vinewtonrsls"}, **kwargs) as problem:
+            terms = model.terms(*self._fluids())
+            with run.stage(stage, model.ctx, terms, model.bcs, {"snes_type": "vinewtonrsls"}, **kwargs) as problem:
                 model.contact_bounds(problem)
                 path = LoadPath(problem, model.set_platen, stage, model.viscosity,
                                 params.beta / model.geometry.r0**2, events=self.events,
-                                max_snaps=params.max_snaps, load_name="eps")
+                                max_snaps=params.max_snaps, load_name="eps",
+                                waves=model.wave_check(terms, run.prefix(stage) + "modes_"))
                 if fresh:
                     if not path.solve_at(start, fallbacks=True):
                         raise SteppingError(f"{stage}: no equilibrium at eps = {start:.6g} "
@@ -255,6 +256,7 @@ class DoubleCraterCycle:
             "chamber_events": self.topology,
             "cavitation": next((e for e in self.topology if e["kind"] == "cavitation"), None),
             "stability": classify(self.events),
+            "symmetry_breaking": symmetry_breaking(self.events) if self.params.waves else None,
             "fluid_law_residual": max((r["fluid_law_residual"] for r in run.rows
                                        if r["fluid_law_residual"] is not None), default=None),
             "V0": self.V0})
