@@ -17,6 +17,7 @@ import math
 import numpy as np
 from dolfinx import fem
 
+from bcfem import contact_edge
 from bcfem.bcs import component
 from bcfem.cavity import Cavity
 from bcfem.context import Context
@@ -149,29 +150,18 @@ class Crater:
 
     def open_radius(self) -> float:
         """Current radius of the edge of the suction area, where the crater wall leaves
-        the plate. The pressure on the wall has the vertical resultant Δp π r_edge²
-        whatever the wall's shape above (an overhang cancels), so A = π r_edge²."""
+        the plate (located inside its element, :mod:`bcfem.contact_edge`). The pressure on
+        the wall has the vertical resultant Δp π r_edge² whatever the wall's shape above
+        (an overhang cancels), so A = π r_edge²."""
         return self.plate_edge(np.ones(len(self._wall[0]), dtype=bool))
 
     def plate_edge(self, part: np.ndarray) -> float:
         """The current radius where the wall nodes ``part`` (a mask of the wall's dofs) leave
-        the plate. They lie on it from their lowest reference height up to some height; the
-        edge is the lowest node's radius if only it is on the plate, else midway between the
-        highest node on the plate and the next node off it (known to within a node spacing).
-        0 if none of them is on the plate (collective)."""
+        the plate. They lie on it from their lowest reference height up to the highest node
+        on the plate; the edge lies between that node and the next one off it, where
+        :func:`bcfem.contact_edge.plate_edge` extrapolates the gap of the nodes off the
+        plate, g^(2/3), to zero (a smooth edge: g ~ (s - s0)^(3/2)); an edge at a corner
+        stays at the corner's node. 0 if none of them is on the plate (collective)."""
         X, zdofs, rdofs = (a[part] for a in self._wall)
-        a = self.geometry.crater_radius
-        z = X[:, 1] + self.u.x.array[zdofs]
-        r = X[:, 0] + self.u.x.array[rdofs]
-        on = z <= 1e-6 * a
-        Z = X[:, 1]  # the reference height orders the part from its lowest point up
-        comm = self.mesh.comm
-        base = min(comm.allgather(float(Z.min(initial=math.inf))))
-        top, r_on = max(comm.allgather(max(zip(Z[on], r[on]), default=(-math.inf, 0.0))))
-        if not math.isfinite(top):
-            return 0.0
-        above = ~on & (Z > top)
-        nearest, r_off = min(comm.allgather(min(zip(Z[above], r[above]), default=(math.inf, 0.0))))
-        if top - base <= 1e-12 * a or not math.isfinite(nearest):
-            return r_on
-        return 0.5 * (r_on + r_off)
+        x = np.column_stack([X[:, 0] + self.u.x.array[rdofs], X[:, 1] + self.u.x.array[zdofs]])
+        return contact_edge.plate_edge(self.mesh.comm, X[:, :2], x, 1e-6 * self.geometry.crater_radius)
