@@ -103,6 +103,10 @@ class ArcLength:
         self.params = params
         self.load_scale = float(load_scale)
         self.parameter = parameter
+        #: corrected points rejected as jumps to another branch (``max_correction``)
+        self.jumps = 0
+        #: events (folds, switches, the end) located only to within their step
+        self.unlocated = 0
         self.norm = {name: float(scale) for name, scale in norm.items()}
         lam = ctx.real_state(parameter)
         fields = {name: ctx.states[name] for name in self.norm}
@@ -163,10 +167,20 @@ class ArcLength:
         return [-t for t in tangent] if component < 0 else tangent
 
     def _solve_at(self, problem, base, tangent, sigma) -> bool:
+        """Correct the predictor ``base + sigma tangent`` onto the branch; False if Newton
+        fails or lands farther than ``max_correction`` sigma from the predictor (a jump)."""
         anchor = [b + sigma * t for b, t in zip(base, tangent)]
         self._set_hyperplane(problem, tangent, anchor)
         problem.restore(anchor)  # the predictor is the initial guess
-        return problem.solve()
+        if not problem.solve():
+            return False
+        if math.isfinite(self.params.max_correction):
+            distance = self._length(problem, [x - a for x, a in zip(problem.save(), anchor)])
+            if distance > self.params.max_correction * abs(sigma):
+                self.jumps += 1
+                problem.restore(anchor)
+                return False
+        return True
 
     # -- the path -------------------------------------------------------------------------
     def start(self, problem, value: float) -> None:
@@ -208,6 +222,17 @@ class ArcLength:
         after = observe()[key]
         problem.restore(here)
         return 1 if after >= before else -1
+
+    def hold(self, problem, value: float) -> None:
+        """Make the parameter's row ``lambda = value``: the load is then given (a converged
+        state is on the branch at that load), e.g. to start a trace from a known state or
+        to solve at a checkpoint. The next :meth:`trace` starts along the load's tangent."""
+        parts, il = self._index(problem)
+        zero = [np.zeros_like(s.x.array) for s in problem.states]
+        self._set_hyperplane(problem, zero, zero)
+        self.t_lam.value = 1.0 / self.load_scale**2
+        self.lam_anchor.value = float(value)
+        problem.state(self.parameter).x.array[:] = value
 
     def restart_row(self, problem) -> None:
         """Put back the row of :meth:`start`, so a second trace from the start point
@@ -367,10 +392,18 @@ class ArcLength:
                 raise ContinuationError(f"Newton failed inside an accepted step (sigma={sigma:g})")
             return f_now()
 
-        sigma = bracketed_root(f, 0.0, ds, xtol=self.params.event_tol)
-        if not self._solve_at(problem, base, tangent, sigma):
-            raise ContinuationError(f"Newton failed at a located event (sigma={sigma:g})")
-        return sigma
+        try:
+            sigma = bracketed_root(f, 0.0, ds, xtol=self.params.event_tol)
+            if not self._solve_at(problem, base, tangent, sigma):
+                raise ContinuationError(f"Newton failed at a located event (sigma={sigma:g})")
+            return sigma
+        except ContinuationError:
+            # Newton cannot reach points inside the step (a kink of a contact's branch): the
+            # event is the step's end, located to within the step only
+            self.unlocated += 1
+            if not self._solve_at(problem, base, tangent, ds):
+                raise ContinuationError(f"Newton failed again at an accepted step's end (ds={ds:g})") from None
+            return ds
 
     def _locate_fold(self, problem, base, tangent, ds, s, observe, f1) -> LimitPoint:
         """The point in (0, ds) where the tangent's load component vanishes."""

@@ -28,6 +28,10 @@ class ContinuationParams:
         target_iterations: Newton iterations per step that the step control aims at.
         max_steps: hard limit on accepted steps.
         event_tol: tolerance, in arc length, to which limit points and end points are located.
+        max_correction: a corrected point farther than this times the step from its predictor
+            is rejected like a failed solve (the step is halved): Newton jumped to another
+            branch. A smooth branch corrects by O(ds^2) and a kink (a contact's active set)
+            by ds sin(angle), so 1 passes both; inf: no check.
     """
 
     ds: float = 0.05
@@ -36,6 +40,7 @@ class ContinuationParams:
     target_iterations: int = 4
     max_steps: int = 2000
     event_tol: float = 1e-11
+    max_correction: float = math.inf
 
     def __post_init__(self):
         require(0 < self.ds_min <= self.ds <= self.ds_max and math.isfinite(self.ds_max),
@@ -43,3 +48,4 @@ class ContinuationParams:
         require(self.target_iterations >= 1, f"target_iterations must be >= 1 (got {self.target_iterations})")
         require(self.max_steps >= 1, f"max_steps must be >= 1 (got {self.max_steps})")
         require(self.event_tol > 0, f"event_tol must be > 0 (got {self.event_tol})")
+        require(self.max_correction > 0, f"max_correction must be > 0 (got {self.max_correction})")

@@ -19,11 +19,11 @@ from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assign
 
 from bcfem import options
-from bcfem.mpi import global_dofs
+from bcfem.algebra import ConvergedAlgebra
 from bcfem.protocols import declared_multipliers
 
 
-class Problem:
+class Problem(ConvergedAlgebra):
     """A blocked nonlinear problem over all states of a context.
 
     Args:
@@ -178,34 +178,6 @@ class Problem:
                 y.scale(t)
 
         self.snes.setLineSearchPreCheck(precheck)
-
-    def global_indices(self, name: str) -> np.ndarray:
-        """The global row of every local (unrolled, ghosts included) dof of state ``name``."""
-        v = self.new_vector()
-        start, end = v.getOwnershipRange()
-        v.array[:] = np.arange(start, end, dtype=float)
-        functions = [fem.Function(s.function_space) for s in self.states]
-        self.functions_from(v, functions)
-        v.destroy()
-        return np.rint(functions[self.names.index(name)].x.array).astype(np.int64)
-
-    def global_size(self, names) -> int:
-        """The global number of dofs (block size included) of the states ``names``."""
-        unknown = [n for n in names if n not in self.names]
-        if unknown:
-            raise ValueError(f"no state {unknown[0]!r} in this problem (states: {', '.join(self.names)})")
-        return global_dofs(self.state(n) for n in names)
-
-    def constrained(self, name: str) -> np.ndarray:
-        """A mask of the local (unrolled) dofs of state ``name`` held by a Dirichlet condition."""
-        space = self.ctx.states[name].function_space
-        imap = space.dofmap.index_map
-        mask = np.zeros((imap.size_local + imap.num_ghosts) * space.dofmap.index_map_bs, dtype=bool)
-        for bc in self.bcs:
-            if space._cpp_object.contains(bc.function_space):
-                dofs, _ = bc.dof_indices()
-                mask[dofs] = True
-        return mask
 
     def allow_new_nonzeros(self) -> None:
         """Let a discrete term add entries outside the forms' sparsity pattern."""
@@ -379,43 +351,3 @@ class Problem:
 
     def __exit__(self, *exc):
         self.close()
-
-    # -- linear algebra on the converged state ---------------------------------------------
-    def new_vector(self) -> PETSc.Vec:
-        return self._nlp.b.duplicate()
-
-    def vector_from(self, functions) -> PETSc.Vec:
-        """A blocked vector holding the given functions (one per state)."""
-        v = self.new_vector()
-        assign(list(functions), v)
-        return v
-
-    def functions_from(self, vec: PETSc.Vec, functions) -> None:
-        vec.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-        assign(vec, list(functions))
-
-    def jacobian(self) -> tuple[PETSc.Mat, PETSc.Vec]:
-        """(J, x): the Jacobian assembled at the current states, and those states as a vector
-        (both owned by the problem: copy before changing them)."""
-        x = self._nlp.x
-        assign(self.states, x)
-        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-        self.snes.computeJacobian(x, self._nlp.A, None)
-        return self._nlp.A, x
-
-    def solve_jacobian(self, rhs: PETSc.Vec) -> PETSc.Vec:
-        """Solve J(x) y = rhs with the Jacobian assembled at the current states."""
-        A, _ = self.jacobian()
-        if self._tangent_ksp is None:
-            ksp = PETSc.KSP().create(self.comm)
-            ksp.setOptionsPrefix(self.prefix + "tangent_")
-            ksp.setType("preonly")
-            ksp.getPC().setType("lu")
-            ksp.getPC().setFactorSolverType("mumps")
-            ksp.setFromOptions()
-            self._tangent_ksp = ksp
-        self._tangent_ksp.setOperators(A)
-        y = rhs.duplicate()
-        self._tangent_ksp.solve(rhs, y)
-        return y
-

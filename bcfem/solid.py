@@ -15,6 +15,10 @@ unknowns (a moving debond front, as for the membrane's ``reference`` in
 :math:`F = (I + \nabla_\xi u)(\nabla_\xi X)^{-1}`, :math:`F_{\theta\theta} = r/X_r`,
 :math:`dV = 2\pi X_r \det\nabla_\xi X\,d\xi`. Only the strain measures see the map;
 whatever depends on positions alone (volumes, current areas) does not.
+
+The displacement may carry a ``lift``, a UFL vector added to u (e.g. a platen state w
+times a shape φ that is 1 on the top face: u + w φ e_z), so that a Dirichlet value
+becomes an unknown that arc-length continuation can drive.
 """
 
 from __future__ import annotations
@@ -35,11 +39,14 @@ class AxisymmetricSolid:
         quadrature_degree: explicit quadrature degree.
         cell_tags: region markers for integrals over part of the body.
         facet_tags: boundary markers for integrals over part of the surface.
+        lift: None, or a UFL vector added to ``u`` in every kinematic quantity.
     """
 
-    def __init__(self, u, quadrature_degree: int, cell_tags=None, facet_tags=None, reference=None):
+    def __init__(self, u, quadrature_degree: int, cell_tags=None, facet_tags=None, reference=None, lift=None):
         mesh = u.function_space.mesh
         self.u = u
+        if lift is not None:
+            u = u + lift
         self.x = ufl.SpatialCoordinate(mesh)
         #: the material coordinates X(ξ) (the mesh coordinate when not mapped)
         self.X = self.x if reference is None else reference

@@ -22,33 +22,36 @@ from petsc4py import PETSc
 import numpy as np
 
 
-def unstable_modes(problem, multipliers: list[str] | None = None, active_tol: float = 1e-9) -> int:
+def unstable_modes(problem, multipliers: list[str] | None = None, active_tol: float = 1e-9,
+                   held: tuple[str, ...] = ()) -> int:
     """Number of unstable directions at the current (converged) state of ``problem``.
 
     Args:
         multipliers: names of the multiplier states to subtract (those not in the problem
             are skipped); default: the ones its terms declare, ``problem.multipliers``.
         active_tol: relative distance from a bound within which an unknown is held there.
+        held: states held fixed for the count, e.g. an arc-length load parameter (a platen
+            displacement: the count is then that of displacement control), whose row is no
+            equilibrium row.
     """
     with problem.timed("stability"):
-        negative = _negative_modes(problem, active_tol)
+        negative = _negative_modes(problem, active_tol, held)
     if multipliers is None:
         multipliers = problem.multipliers
     return negative - problem.global_size([n for n in multipliers if n in problem.names])
 
 
-def _negative_modes(problem, active_tol: float) -> int:
-    """Negative eigenvalues of the tangent with the unknowns at a bound held."""
+def _negative_modes(problem, active_tol: float, held: tuple[str, ...]) -> int:
+    """Negative eigenvalues of the tangent with the unknowns at a bound and the states
+    ``held`` held."""
+    rows = problem.held_rows(active_tol)
     jacobian, x = problem.jacobian()
     A = jacobian.copy()
-    bounds = problem.bounds
-    if bounds:
-        lower, upper = (b.array for b in bounds)
-        at_bound = (np.abs(x.array - lower) <= active_tol * np.maximum(1.0, np.abs(lower))) | \
-                   (np.abs(upper - x.array) <= active_tol * np.maximum(1.0, np.abs(upper)))
-        start, _ = x.getOwnershipRange()
-        rows = (np.flatnonzero(at_bound) + start).astype(PETSc.IntType)
-        A.zeroRowsColumns(rows, diag=1.0)
+    if held:
+        start, end = x.getOwnershipRange()
+        fixed = np.concatenate([problem.global_indices(name) for name in held])
+        rows = np.union1d(rows, fixed[(fixed >= start) & (fixed < end)]).astype(PETSc.IntType)
+    A.zeroRowsColumns(rows, diag=1.0)
     try:
         negative = negative_eigenvalues(A, problem.prefix + "inertia_")
     finally:

@@ -67,6 +67,7 @@ class LoadPath:
         check_stability: count unstable modes after each accepted step.
         waves: None, or a callable giving {n: unstable modes with n waves} at the current
             state (checked with the axisymmetric count).
+        held: states held fixed in the stability count (an arc-length load parameter).
         predict: start Newton from the secant through the last two accepted states.
         adapt_steps: size the next step by this one's Newton iterations (:meth:`_growth`)
             rather than growing it by 1.5 always.
@@ -92,6 +93,7 @@ class LoadPath:
     bracket: tuple | None = None
     predict: bool = False
     adapt_steps: bool = False
+    held: tuple = ()
     _previous: tuple | None = field(default=None, init=False, repr=False)
 
     def solve_at(self, value: float, fallbacks: bool) -> bool:
@@ -173,7 +175,7 @@ class LoadPath:
             self._saved = self.problem.save()
             if not snapped:
                 step *= self._growth(self.problem.iterations) if self.adapt_steps else 1.5
-            self._check_stability(current)
+            self.inspect(current)
             progress(f"{self.stage} {current:.5f}  its={self.problem.iterations}  unstable={self.unstable}"
                      f"  snaps={self.snaps}" + ("  (snap)" if snapped else ""))
             if on_accept is not None and on_accept(current):
@@ -259,14 +261,15 @@ class LoadPath:
         """Take the current state as the first accepted one."""
         self._saved, self._previous = self.problem.save(), None
         if self.check_stability:
-            self.unstable = unstable_modes(self.problem, self.multipliers)
+            self.unstable = unstable_modes(self.problem, self.multipliers, held=self.held)
             if self.waves is not None:
                 self.unstable_waves = _unstable_waves(self.waves())
 
-    def _check_stability(self, value: float) -> None:
+    def inspect(self, value: float) -> None:
+        """Count the unstable modes at the current state (load ``value``); a change is an event."""
         if not self.check_stability:
             return
-        unstable = unstable_modes(self.problem, self.multipliers)
+        unstable = unstable_modes(self.problem, self.multipliers, held=self.held)
         if unstable != self.unstable:
             self.events.append({"stage": self.stage, self.load_name: value, "kind": "stability", "unstable": unstable,
                                 "detail": f"unstable axisymmetric modes {self.unstable} -> {unstable}"})

@@ -50,7 +50,7 @@ def test_waves_events_and_their_rewind(monkeypatch):
     import bcfem.stepping as stepping
 
     problem = Quadratic()
-    monkeypatch.setattr(stepping, "unstable_modes", lambda p, multipliers: int(p.load >= 0.3 - 1e-12))
+    monkeypatch.setattr(stepping, "unstable_modes", lambda p, multipliers, held=(): int(p.load >= 0.3 - 1e-12))
 
     def waves():
         return {1: int(problem.load >= 0.3 - 1e-12), 2: 2 * int(problem.load >= 0.5 - 1e-12), 3: 0}

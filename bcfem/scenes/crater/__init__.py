@@ -34,9 +34,11 @@ def __getattr__(name: str):
 
 def build(params: Params, comm, model_class=None):
     """The crater scene (meshed when solved), for :mod:`bcfem.runner`."""
-    from bcfem.scenes.crater.stages import CraterCycle
-
-    return CraterCycle(params, comm, *(model_class,) if model_class else ())
+    if params.path == "fundamental":
+        from bcfem.scenes.crater.fundamental import FundamentalCycle as Cycle
+    else:
+        from bcfem.scenes.crater.stages import CraterCycle as Cycle
+    return Cycle(params, comm, *(model_class,) if model_class else ())
 
 
 def solve(params: Params, comm, model_class=None) -> tuple[list[dict], dict]:

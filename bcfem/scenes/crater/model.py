@@ -14,7 +14,10 @@ from __future__ import annotations
 
 import math
 
+from mpi4py import MPI
+
 import numpy as np
+import ufl
 from dolfinx import fem
 
 from bcfem import contact_edge
@@ -56,8 +59,22 @@ class Crater:
         msh, facets = data.mesh, data.facet_tags
         V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
         self.u = fem.Function(V, name="displacement")
-        self.ctx = Context(self.u, AxisymmetricSolid(self.u, quadrature_degree=4, cell_tags=data.cell_tags,
-                                                     facet_tags=facets))
+        self.ctx = Context(self.u)
+        Vz, zmap = V.sub(1).collapse()
+        _, rmap = V.sub(0).collapse()
+        wall = fem.locate_dofs_topological(Vz, 1, np.concatenate([facets.find(tag) for tag in self.walls]))
+        self._wall_dofs = wall
+        # reference points and displacement dofs of the crater wall, found once
+        self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
+                      np.asarray(rmap).reshape(-1)[wall])
+        #: the platen displacement as an unknown (``path = fundamental``), else None
+        self.platen_state = None
+        lift = None
+        if getattr(params, "path", "stable") == "fundamental":
+            self.platen_state = self.ctx.real_state("platen_displacement")
+            lift = ufl.as_vector([0, self.platen_state * self._platen_shape(Vz, msh.comm)])
+        self.ctx.kin = AxisymmetricSolid(self.u, quadrature_degree=4, cell_tags=data.cell_tags,
+                                         facet_tags=facets, lift=lift)
 
         def neo_hookean(mu):
             return NearlyIncompressibleNeoHookean(mu=mu, kappa=params.kappa_ratio * mu)
@@ -83,13 +100,6 @@ class Crater:
         self.cavity = Cavity(self.walls)
         self.volume = fem.form(self.cavity.volume(self.ctx.kin))
         self.rim = PointEvaluator(msh, [geometry.crater_radius, 0.0]).expression(self.u[0])
-        Vz, zmap = V.sub(1).collapse()
-        _, rmap = V.sub(0).collapse()
-        wall = fem.locate_dofs_topological(Vz, 1, np.concatenate([facets.find(tag) for tag in self.walls]))
-        self._wall_dofs = wall
-        # reference points and displacement dofs of the crater wall, found once
-        self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
-                      np.asarray(rmap).reshape(-1)[wall])
         self.mesh = msh
         self.cell_tags, self.facet_tags = data.cell_tags, facets
 
@@ -99,10 +109,27 @@ class Crater:
         optional = [t for t in (self.surface, self.self_contact) if t is not None]
         return [*self.solids, *optional, *fluid, self.viscosity]
 
+    def _platen_shape(self, Vz, comm) -> fem.Function:
+        """phi(Z), 0 up to the wall's top and rising linearly to 1 on the top face: the lift
+        u + w phi e_z moves the top face by w and leaves the wall's unknowns, their contact
+        bounds and the self-contact as they are."""
+        top = comm.allreduce(float(self._wall[0][:, 1].max(initial=0.0)), op=MPI.MAX)
+        H = self.params.specimen_height
+        shape = fem.Function(Vz, name="platen_shape")
+        shape.interpolate(lambda x: np.clip((x[1] - top) / (H - top), 0.0, 1.0))
+        return shape
+
     def set_platen(self, strain: float) -> None:
         """Platen displacement for the specimen strain eps = -dL/L."""
         self.strain = strain
-        self.platen.x.array[:] = -strain * self.params.specimen_height
+        target = self.platen if self.platen_state is None else self.platen_state
+        target.x.array[:] = -strain * self.params.specimen_height
+
+    def platen_strain(self) -> float:
+        """eps = -dL/L of the current state."""
+        if self.platen_state is None:
+            return self.strain
+        return -real_value(self.platen_state) / self.params.specimen_height
 
     def _bcs(self, V, facets):
         return [component(V, 0, facets.find(AXIS)), component(V, 1, facets.find(BOTTOM)),

@@ -37,6 +37,8 @@ stable state with another F_tilde, so read it as one of several equilibria;
 detected (Fourier modes n = 1..N, events of kind 'waves').
 PETSc prefixes: bcfem_crater_load_ and bcfem_crater_unload_."""
 
+#: ``--path``: the load-stepped path that relaxes past instabilities, or the branch from rest
+PATHS = ("stable", "fundamental")
 #: the crater fluids (the terms are ``bcfem.fluids.FLUIDS``)
 FLUID_NAMES = ("air", "liquid")
 #: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
@@ -111,6 +113,13 @@ class Params:
     waves: int = field(default=0, metadata=_help(
         "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step, "
         "0 (off) to 400"))
+    path: str = field(default="stable", metadata=_help(
+        "stable: load stepping that passes each instability by pseudo-time relaxation and lands on "
+        "a stable state; fundamental: the equilibrium branch connected to the rest state, traced by "
+        "arc-length continuation in the platen displacement through its folds and unstable "
+        "stretches (no relaxation), recording folds and the unstable modes at each point; it ends "
+        "at the preload, at closure, at eps = 0.85, or where it cannot go on (reported)",
+        choices=PATHS))
     max_snaps: int = field(default=24, metadata=_help(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage, 0 to 1000; a path that "
         "snaps more often fails (a deepening crease)"))
@@ -120,6 +129,7 @@ class Params:
     BUDGETS = ("max_snaps",)
 
     def __post_init__(self):
+        require(self.path in PATHS, f"path must be one of {list(PATHS)} (got {self.path!r})")
         require(self.fluid in FLUID_NAMES, f"fluid must be one of {list(FLUID_NAMES)} (got {self.fluid!r})")
         require(self.beta > 0 and math.isfinite(self.beta), f"beta must be > 0 (got {self.beta})")
         require(self.preload == PRELOAD_TO_CLOSURE or 0 <= self.preload < 0.9,

@@ -1,0 +1,152 @@
+r"""The crater's fundamental branch (``--path fundamental``): both stages by arc-length.
+
+The platen displacement w is an unknown (the model's lift u + w φ e_z, φ = 1 on the top
+face), so :class:`bcfem.continuation.ArcLength` can drive it: the branch connected to
+the rest state is followed through its folds in ε = -w/H (snap-backs) and along its
+unstable stretches, with no relaxation. At each accepted point the unstable modes are
+counted at fixed platen (displacement control: w held, Sylvester's law), and with
+``--waves`` the n-wave modes too; a change is an event, as on the stable path, and a
+fold of ε is an event of kind ``fold``.
+
+``load`` (vent open) ends at the preload, at closure (:data:`CLOSURE_CRITERIA`) or at
+ε = 0.85; ``unload`` (sealed) ends where the platen force vanishes. A branch the
+continuation cannot follow (a bifurcation it cannot pass, a wall that would pass
+through itself) ends the run with the converged part written and the reason given.
+"""
+
+from __future__ import annotations
+
+import math
+
+import ufl
+from dolfinx import fem
+
+from bcfem.continuation import ArcLength, ContinuationError
+from bcfem.fluids import FLUIDS, Vacuum
+from bcfem.mpi import global_sum
+from bcfem.params import ContinuationParams
+from bcfem.scenes.crater.model import Crater
+from bcfem.scenes.crater.params import CLOSURE_CRITERIA, COLUMNS, MAX_CLOSURE_PRELOAD, PRELOAD_TO_CLOSURE, Params
+from bcfem.scenes.crater.report import finish, plot
+from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
+from bcfem.stepping import LoadPath
+
+#: the load parameter: the platen's displacement (mm; compression < 0)
+PARAMETER = "platen_displacement"
+
+
+def closure(values: dict) -> float:
+    """>= 0 once the crater counts as closed (the criteria of ``--preload closure``)."""
+    c, V, A = CLOSURE_CRITERIA, values["V_over_V0"], values["A_over_A0"]
+    return max(c.volume - V, min(c.trapped - V, c.area - A))
+
+
+class FundamentalCycle:
+    """The crater scene on its fundamental branch (:mod:`bcfem.runner` solves it)."""
+
+    name = "crater"
+    stages = ("load", "unload")
+    columns = (*COLUMNS, "s", "platen_force", "unstable", "unstable_waves")
+
+    def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
+        self.params = params
+        self.comm = comm
+        self.model_class = model_class
+        self.model: Crater | None = None
+
+    def figures(self, rows, summary) -> dict:
+        return {"cycle.png": plot(rows, summary)}
+
+    def continuation(self) -> ContinuationParams:
+        """Steps in the strain-like norm (lengths over H): the first is ``strain_step``."""
+        step = self.params.strain_step
+        return ContinuationParams(ds=step, ds_min=step * 2.0**-16, ds_max=4 * step, event_tol=1e-9,
+                                  max_steps=4000, max_correction=0.5)
+
+    def solve(self, run) -> None:
+        params = self.params
+        model = self.model = self.model_class(params, self.comm)
+        run.watch([model.u])
+        events, folds = [], []
+        run.results.update(instabilities=events, folds=folds, retraced=None)
+        H = params.specimen_height
+        arc = ArcLength(model.ctx, PARAMETER, self.continuation(), load_scale=H, norm={"displacement": H})
+        solver = {"snes_type": "vinewtonrsls"}
+        kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS,
+                      rows=arc.rows())
+        end_strain = MAX_CLOSURE_PRELOAD if params.preload == PRELOAD_TO_CLOSURE else params.preload
+        terms = [t for t in model.terms() if t is not model.viscosity]
+
+        with run.stage("load", model.ctx, terms, model.bcs, solver, **kwargs) as loading:
+            model.contact_bounds(loading)
+            self._trace(run, arc, loading, "load", terms, None, events, folds,
+                        end=lambda v: max(v["eps"] - end_strain, closure(v)), direction=-1)
+            load_end = run.rows[-1]
+        V1, preload = load_end["V"], load_end["eps"]
+        closes = closure(load_end) >= -1e-8  # the end is located to event_tol: within round-off of 0
+        closed = V1 <= CLOSURE_CRITERIA.closed * model.geometry.crater_volume or closes
+        if closed and params.fluid == "liquid":
+            final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
+            final.update(s=load_end["s"], platen_force=load_end["platen_force"], unstable=load_end["unstable"])
+            finish(run, model, final, V1, closed, preload, preload, events, load_end["unstable"])
+            return
+        if not closed:
+            model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
+        fluid = Vacuum(model.cavity) if closed else FLUIDS[params.fluid](model.cavity, V1)
+        terms = [t for t in model.terms(fluid) if t is not model.viscosity]
+        V1_sealed = 0.0 if closed else V1
+        with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading:
+            model.contact_bounds(unloading)
+            if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
+                arc.hold(unloading, -preload * H)
+                ramp = model.ctx.constant("vacuum_load")
+                sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", check_stability=False,
+                                   load_name="vacuum_ramp")
+                sealing.start()
+                sealing.advance(0.0, 1.0, 0.25)
+            self._trace(run, arc, unloading, "unload", terms, V1_sealed, events, folds,
+                        end=lambda v: v["platen_force"], direction=1)
+            final = run.rows.pop()
+        finish(run, model, final, V1, closed, preload, final["eps"], events, final["unstable"])
+        run.results["eps_m"] = preload if params.preload == PRELOAD_TO_CLOSURE and closes else None
+
+    def _trace(self, run, arc, problem, stage: str, terms, V1, events, folds, end, direction: int) -> None:
+        """Follow the branch from the current state (its platen held) until ``end`` turns >= 0,
+        recording every accepted point in ``run`` with its unstable modes."""
+        model, H = self.model, self.params.specimen_height
+        w = model.platen_state
+        arc.hold(problem, -model.platen_strain() * H)
+        if not problem.solve():
+            raise ContinuationError(f"{stage}: no converged state at the start of the branch ({problem.failure})")
+        unit = fem.Function(w.function_space)
+        unit.x.array[:] = 1.0
+        force = fem.form(ufl.derivative(problem.lagrangian, w, unit))  # compression < 0
+        A0 = math.pi * model.geometry.crater_radius**2
+
+        def observe() -> dict:
+            eps = model.platen_strain()
+            return {**model.observe(stage, eps, V1), "platen_force": global_sum(force) / A0}
+
+        stability = LoadPath(problem, model.set_platen, stage, events=events, held=(PARAMETER,), load_name="eps",
+                             waves=model.wave_check(terms, run.prefix(stage) + "modes_"))
+        stability.start()
+
+        def accept(values: dict) -> None:
+            stability.inspect(values["eps"])
+            values.update(unstable=stability.unstable, unstable_waves=" ".join(map(str, stability.unstable_waves)))
+            run.record(values)
+
+        arc.jumps = arc.unlocated = 0
+        branch = arc.trace(problem, observe, end, ("eps", "V_over_V0", "A_over_A0", "unstable"),
+                           on_accept=accept, direction=direction)
+        for point in branch.limit_points:
+            kind = "min" if point.kind == "max" else "max"  # of eps = -w/H
+            folds.append({"stage": stage, "s": point.s, "eps": point.values["eps"], "kind": f"eps_{kind}",
+                          "V_over_V0": point.values["V_over_V0"], "A_over_A0": point.values["A_over_A0"],
+                          "platen_force": point.values["platen_force"]})
+            events.append({"stage": stage, "eps": point.values["eps"], "kind": "fold", "unstable": None,
+                           "detail": f"the branch turns back in eps (a {kind}imum): a snap-back"})
+        run.results.setdefault("continuation", {})[stage] = {
+            "points": len(branch.rows), "newton_iterations": branch.newton_iterations,
+            "failed_steps": branch.failed_steps, "jumps_rejected": arc.jumps,
+            "events_located_to_a_step": arc.unlocated, "wall_time_s": branch.wall_time_s}
