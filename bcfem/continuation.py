@@ -246,10 +246,12 @@ class ArcLength:
         against the start's tangent (e.g. towards smaller volumes)."""
         self._partial = Branch()
         self._direction = direction
+        t0 = time.perf_counter()
         try:
             return self._trace(problem, observe, end, progress_keys, on_accept, guard, switches)
         except ContinuationError as error:
             error.branch = self._partial
+            error.branch.wall_time_s = time.perf_counter() - t0
             raise
 
     def _trace(self, problem, observe: Callable[[], dict], end: Callable[[dict], float],

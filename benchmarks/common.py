@@ -127,6 +127,34 @@ def atomic_text(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+def marks(name: str) -> tuple[str, str]:
+    """The markers of a section that another script keeps in a shared markdown file."""
+    return f"<!-- {name}:begin -->", f"<!-- {name}:end -->"
+
+
+def put_section(path: Path, name: str, block: str) -> None:
+    """Replace (or append) the marked section ``name`` of the markdown file ``path``;
+    ``block`` holds no markers."""
+    begin, end = marks(name)
+    block = f"{begin}\n{block.strip()}\n{end}"
+    text = path.read_text() if path.exists() else ""
+    if begin in text:
+        text = text[:text.index(begin)] + block + text[text.index(end) + len(end):]
+    else:
+        text = text.rstrip("\n") + "\n\n" + block + "\n"
+    atomic_text(path, text)
+
+
+def kept_sections(path: Path, names) -> str:
+    """The marked sections ``names`` of ``path`` as they are (to carry over a regeneration)."""
+    text = path.read_text() if path.exists() else ""
+    parts = []
+    for begin, end in map(marks, names):
+        if begin in text:
+            parts.append(text[text.index(begin):text.index(end) + len(end)])
+    return "\n\n".join(parts)
+
+
 def save_figure(fig, path: Path) -> None:
     """Save a driver's figure: the driver is one process, whatever ranks its runs used."""
     from mpi4py import MPI

@@ -57,6 +57,7 @@ from common import (  # noqa: E402
     count_newton,
     csv_text,
     fmt,
+    kept_sections,
     loadavg,
     observed_order,
     reference,
@@ -77,7 +78,8 @@ MPI_EPS = 0.2  # preload of the 2-rank timing
 MPI_BUDGET = 30.0  # [s] target of the 2-rank cycle
 COMMAND = ".venv/bin/python benchmarks/crater_air.py"
 TIGHT = "-snes_rtol 1e-14 -snes_atol 1e-13 -snes_stol 1e-15"  # the solver-tolerance check
-EDGE = ("<!-- edge:begin -->", "<!-- edge:end -->")  # benchmarks/crater_air_edge.py's section of the md
+#: sections of the md that other scripts write: crater_air_edge.py, crater_paths.py
+KEPT = ("edge", "paths")
 TIMEOUT = 180.0  # [s] a one-core run is killed after this (normal runs take 1-60 s)
 
 
@@ -432,9 +434,8 @@ def write_outputs(rows, refs, mpi, args):
     save_figure(fig, OUT / "crater-air.png")
     plt.close(fig)
     text, previous = markdown(rows, refs, mpi, args), OUT / "crater-air.md"
-    old = previous.read_text() if previous.exists() else ""
-    if EDGE[0] in old:  # keep the section of benchmarks/crater_air_edge.py
-        text = text.rstrip("\n") + "\n\n" + old[old.index(EDGE[0]):old.index(EDGE[1]) + len(EDGE[1])] + "\n"
+    if kept := kept_sections(previous, KEPT):
+        text = text.rstrip("\n") + "\n\n" + kept + "\n"
     atomic_text(previous, text)
 
 

@@ -30,7 +30,7 @@ import time
 from mpi4py import MPI
 
 import numpy as np
-from common import MONOTONE_MESHES, ROOT, atomic_text, csv_text, fmt, observed_order, reference
+from common import MONOTONE_MESHES, ROOT, atomic_text, csv_text, fmt, observed_order, put_section, reference
 
 import bcfem  # noqa: F401
 from bcfem.geometry.crater import create_mesh
@@ -42,7 +42,6 @@ OUT = ROOT / "docs" / "benchmarks"
 SIZES = [0.16, 0.12, 0.09, 0.06, 0.045, 0.035]
 FAR_RATIO = 4.0  # far-field size over size_crater on the meshes refined everywhere
 COMMAND = ".venv/bin/python benchmarks/crater_air_edge.py"
-BEGIN, END = "<!-- edge:begin -->", "<!-- edge:end -->"
 COLUMNS = ["study", "mesh", "eps", "size_crater", "size_far", "dofs", "t_solve_s", "F_tilde", "F_tilde_midpoint",
            "A2_over_A0", "A2_over_A0_midpoint", "p2_over_pa", "V1_over_V0", "V2_over_V0", "wall_nodes_on_plate",
            "r_edge_over_a", "r_edge_midpoint_over_a"]
@@ -135,7 +134,7 @@ def section(rows) -> str:
                             cwd=ROOT).stdout.strip()
     dirty = subprocess.run(["git", "status", "--porcelain", "bcfem"], capture_output=True, text=True,
                            cwd=ROOT).stdout.strip()
-    out = [BEGIN, "## The contact radius A2 and the far-field mesh at eps = 0.2", "",
+    out = ["## The contact radius A2 and the far-field mesh at eps = 0.2", "",
            f"Regenerate with `{COMMAND}` (one process, warm JIT cache, times of `crater.solve`, not pinned, on a shared machine (load average about 3): indicative only; "
            f"bcfem @ {commit}{' with uncommitted changes in bcfem/' if dirty else ''}); it writes "
            "`crater-air-edge.csv` and this section.", "",
@@ -176,7 +175,6 @@ def section(rows) -> str:
         spread = [max(r[k] for r in loads) - min(r[k] for r in loads)
                   for k in ("r_edge_over_a", "r_edge_midpoint_over_a")]
         out += ["", f"Spread over the meshes: {spread[0]:.1e} a (located edge), {spread[1]:.1e} a (midpoint).", ""]
-    out.append(END)
     return "\n".join(out)
 
 
@@ -192,13 +190,7 @@ def main():
         print({k: rows[-1][k] for k in ("size_crater", "wall_nodes_on_plate", "r_edge_over_a",
                                         "r_edge_midpoint_over_a")}, flush=True)
     atomic_text(OUT / "crater-air-edge.csv", csv_text(rows, COLUMNS))
-    md = OUT / "crater-air.md"
-    text, block = md.read_text(), section(rows)
-    if BEGIN in text:
-        text = text[:text.index(BEGIN)] + block + text[text.index(END) + len(END):]
-    else:
-        text = text.rstrip("\n") + "\n\n" + block + "\n"
-    atomic_text(md, text)
+    put_section(OUT / "crater-air.md", "edge", section(rows))
 
 
 if __name__ == "__main__":

@@ -58,10 +58,11 @@ class FundamentalCycle:
         return {"cycle.png": plot(rows, summary)}
 
     def continuation(self) -> ContinuationParams:
-        """Steps in the strain-like norm (lengths over H): the first is ``strain_step``."""
+        """Steps in the strain-like norm (lengths over H), at most ``strain_step``: longer steps
+        let Newton land on a neighbouring branch within the correction bound."""
         step = self.params.strain_step
-        return ContinuationParams(ds=step, ds_min=step * 2.0**-16, ds_max=4 * step, event_tol=1e-9,
-                                  max_steps=4000, max_correction=0.5)
+        return ContinuationParams(ds=step / 2, ds_min=step * 2.0**-16, ds_max=step, event_tol=1e-9,
+                                  max_steps=20000, max_correction=0.25)
 
     def solve(self, run) -> None:
         params = self.params
@@ -137,8 +138,18 @@ class FundamentalCycle:
             run.record(values)
 
         arc.jumps = arc.unlocated = 0
-        branch = arc.trace(problem, observe, end, ("eps", "V_over_V0", "A_over_A0", "unstable"),
-                           on_accept=accept, direction=direction)
+        try:
+            branch = arc.trace(problem, observe, end, ("eps", "V_over_V0", "A_over_A0", "unstable"),
+                               on_accept=accept, direction=direction)
+        except ContinuationError as error:
+            self._report(error.branch, arc, stage, events, folds, run)
+            raise ContinuationError(f"{stage}: the branch cannot be followed past eps = "
+                                    f"{model.platen_strain():.6g}: {error}") from None
+        self._report(branch, arc, stage, events, folds, run)
+
+    @staticmethod
+    def _report(branch, arc, stage: str, events: list, folds: list, run) -> None:
+        """The branch's folds (as events too) and its continuation counts, into ``run``."""
         for point in branch.limit_points:
             kind = "min" if point.kind == "max" else "max"  # of eps = -w/H
             folds.append({"stage": stage, "s": point.s, "eps": point.values["eps"], "kind": f"eps_{kind}",

@@ -98,7 +98,7 @@ class Params:
     crater_radius: float = field(default=6.35, metadata=_help("crater base radius a, < Rs", "mm"))
     strain_step: float = field(default=0.0125, metadata=_help(
         "platen strain between checkpoints of both stages, in (0, 0.1] (failed steps are halved; every "
-        "run passes the same checkpoints)", "1"))
+        "run passes the same checkpoints); with --path fundamental, the largest arc-length step", "1"))
     surface_energy: float = field(default=0.01, metadata=_help(
         "gamma / (mu a) of the crater wall, in [0, 0.1] (physical PDMS: 7e-5): gives creases a length "
         "scale and acts as a surface stress; 0 is the unregularised model, whose creases are as fine as "
