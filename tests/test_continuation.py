@@ -140,6 +140,32 @@ def test_one_dof_fold_is_located_to_1e_10():
     assert_limit_point(minimum, "min", displacement=1.0, load=-2.0)
 
 
+def test_hold_gives_the_load_and_the_trace_goes_on_from_there():
+    """``hold`` makes the row lambda = value: Newton finds the equilibrium at that load
+    (u^3 - 3u = 1.5 near u = -2), and a trace from it still locates the fold."""
+    toy = Toy(fold, "load", {"displacement": -2.0, "load": 0.0})
+    toy.arc.hold(toy.problem, 1.5)
+    toy.ctx.u.x.array[:] = -2.0
+    assert toy.problem.solve()
+    u, lam = toy.observe()["displacement"], toy.observe()["load"]
+    assert lam == pytest.approx(1.5, abs=1e-14) and abs(u**3 - 3 * u - 1.5) < CONVERGED
+    branch = toy.trace(lambda v: v["displacement"] - 0.0, "displacement")
+    assert_limit_point(branch.limit_points[0], "max", displacement=-1.0, load=2.0)
+
+
+def test_a_correction_longer_than_allowed_cuts_the_step_and_the_fold_stays_exact():
+    """A corrected point farther from its predictor than max_correction x ds is rejected
+    like a failed solve: with a tight bound the steps shrink near the fold's curvature, and
+    the fold is located as without it."""
+    params = ContinuationParams(ds=0.3, ds_max=0.3, max_correction=0.01)
+    toy = Toy(fold, "load", {"displacement": -2.0, "load": 0.0}, params=params)
+    branch = toy.trace(lambda v: v["displacement"] - 2.0, "displacement")
+    assert toy.arc.jumps > 0 and branch.failed_steps >= toy.arc.jumps
+    maximum, minimum = branch.limit_points
+    assert_limit_point(maximum, "max", displacement=-1.0, load=2.0)
+    assert_limit_point(minimum, "min", displacement=1.0, load=-2.0)
+
+
 # -- a snap-back ----------------------------------------------------------------------------
 def snap_back(ctx):
     r"""The spring in series with a unit linear one, loaded at their free end v:

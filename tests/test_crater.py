@@ -120,6 +120,7 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
     (["--max-snaps", "-1"], "max-snaps"),
     (["--max-snaps", "1001"], "max-snaps"),
     (["--max-snaps", "2.5"], "max-snaps"),
+    (["--path", "relaxed"], "path"),
 ])
 def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
     out = tmp_path / "bad"
