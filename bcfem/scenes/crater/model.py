@@ -129,7 +129,7 @@ class Crater:
         """eps = -dL/L of the current state."""
         if self.platen_state is None:
             return self.strain
-        return -real_value(self.platen_state) / self.params.specimen_height
+        return 0.0 - real_value(self.platen_state) / self.params.specimen_height  # no -0.0 at rest
 
     def _bcs(self, V, facets):
         return [component(V, 0, facets.find(AXIS)), component(V, 1, facets.find(BOTTOM)),
