@@ -1,8 +1,13 @@
 """Shared test set-up. ``bcfem`` is imported first: it loads MPI ahead of dolfinx.
 
 Under ``mpirun`` tests marked ``serial`` are skipped: they compare with serial runs
-of their own or spawn ``mpirun`` themselves.
+of their own or spawn ``mpirun`` themselves. After every test the garbage is collected
+on every rank at the same point, so that the meshes and PETSc objects of finished tests
+free their communicators: left to the collector's own schedule they pile up until MPICH
+runs out of communicator context ids (MPI_ERR_OTHER, exit 15, after about a hundred tests).
 """
+
+import gc
 
 from mpi4py import MPI
 
@@ -18,3 +23,10 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if "serial" in item.keywords:
             item.add_marker(skip)
+
+
+@pytest.fixture(autouse=True)
+def _collect_garbage():
+    yield
+    if MPI.COMM_WORLD.size > 1:
+        gc.collect()
