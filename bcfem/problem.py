@@ -18,9 +18,14 @@ import ufl
 from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assign
 
-from bcfem import options
+from bcfem import options, petsc_events
 from bcfem.algebra import ConvergedAlgebra
+from bcfem.newton_cycles import RepeatedIterates
 from bcfem.protocols import declared_multipliers
+from bcfem.reduced_lu import ReducedLU
+
+#: the parts of :attr:`Problem.timings`
+TIMED = ("assembly", "discrete_terms", "factorisation", "linear_solve", "newton", "stability")
 
 
 class Problem(ConvergedAlgebra):
@@ -97,14 +102,17 @@ class Problem(ConvergedAlgebra):
         self._bounds: tuple[PETSc.Vec, ...] = ()
         for term in self.discrete:
             term.bind(self)
-        #: seconds spent in: form assembly and discrete terms within Newton solves, the rest of
-        #: the Newton solves (linear solves, line search), and :meth:`timed` work (stability)
-        self.timings = dict.fromkeys(("assembly", "discrete_terms", "newton", "stability"), 0.0)
+        #: seconds spent within Newton solves in: form assembly, discrete terms, the direct
+        #: solver's factorisations and solves, the rest of Newton (line search, active sets);
+        #: and in :meth:`timed` work (stability)
+        self.timings = dict.fromkeys(TIMED, 0.0)
         self._timing_outside = 0
         #: Newton solves that did not converge (each is a cut-back or a retry)
         self.failed_solves = 0
         self._first_norm = None  # the residual norm at the start of a solve (divergence test)
         self._wrap_assembly()
+        #: ends a solve whose iterates cycle (it would fail at snes_max_it)
+        self.cycles = RepeatedIterates(self.snes, self.comm)
 
     def _wrap_assembly(self) -> None:
         """Wrap dolfinx's assembly callbacks: the discrete terms add to what the forms give,
@@ -270,6 +278,8 @@ class Problem(ConvergedAlgebra):
         """Why the last solve failed, for messages."""
         if self.inadmissible:
             return f"converged to an inadmissible state: {self.inadmissible}"
+        if self.cycles.period:
+            return f"SNES reason {self.reason} (the Newton iterates repeat with period {self.cycles.period})"
         return f"SNES reason {self.reason}"
 
     def _snes_solve(self, x: PETSc.Vec) -> None:
@@ -279,12 +289,16 @@ class Problem(ConvergedAlgebra):
                 term.begin_solve()
         t0 = perf_counter()
         assembled = self.timings["assembly"] + self.timings["discrete_terms"]
+        solver = petsc_events.seconds()
         try:
             self.snes.solve(None, x)
             self.reason = self.snes.getConvergedReason()
         except PETSc.Error:
             self.reason = -100  # e.g. a NaN pivot from an inverted iterate
         assembled = self.timings["assembly"] + self.timings["discrete_terms"] - assembled
+        for part, seconds in petsc_events.seconds().items():
+            self.timings[part] += seconds - solver[part]
+            assembled += seconds - solver[part]
         self.timings["newton"] += perf_counter() - t0 - assembled
         self.iterations = self.snes.getIterationNumber()
 
@@ -329,6 +343,13 @@ class Problem(ConvergedAlgebra):
         one function per state for each side (use +-1e20 where unbounded)."""
         self._bounds = (self.vector_from(lower), self.vector_from(upper))
         self.snes.setVariableBounds(*self._bounds)
+        if (self.snes.getType() == "vinewtonrsls" and self.options.get("ksp_type") == "preonly"
+                and self.options.get("pc_type") == "lu" and not options.user_set(self.prefix, "pc_type")):
+            # one symbolic analysis for the whole path, not one per Newton iteration
+            pc = self.snes.getKSP().getPC()
+            solver = self.options.get("pc_factor_mat_solver_type", "mumps")
+            pc.setType("python")
+            pc.setPythonContext(ReducedLU(self.snes, solver, self.prefix))
 
     def close(self) -> None:
         """Destroy the PETSc objects now, in the same order on every rank.

@@ -25,7 +25,7 @@ from pathlib import Path
 from bcfem import io
 from bcfem.continuation import ArcLength, Branch, ContinuationError
 from bcfem.log import logger
-from bcfem.problem import Problem
+from bcfem.problem import TIMED, Problem
 from bcfem.stepping import SteppingError
 
 #: what a scene raises when its path cannot go on (the converged part is kept)
@@ -74,7 +74,7 @@ class Run:
         self.dofs = 0
         self.newton_iterations = 0
         self.failed_solves = 0
-        self.timings = dict.fromkeys(("assembly", "discrete_terms", "newton", "stability"), 0.0)
+        self.timings = dict.fromkeys(TIMED, 0.0)
         self._problems: list[Problem] = []
 
     def prefix(self, stage: str) -> str:
@@ -194,11 +194,14 @@ def solve_rows(scene, comm) -> tuple[list[dict], dict]:
 
 
 def time_split(timings: dict, wall: float) -> dict:
-    """Where a run's wall time went: form assembly and discrete terms (self-contact) within
-    Newton, the rest of Newton (linear solves, line search, convergence tests), stability
-    checks, and everything else (meshing, compilation, observables, relaxation set-up, output)."""
+    """Where a run's wall time went. Within Newton: form assembly, discrete terms
+    (self-contact), the direct solver's factorisations (analysis included) and its triangular
+    solves, and the rest of Newton (line search, active sets, reduced matrices, convergence
+    tests); then stability checks, and everything else (meshing, compilation, observables,
+    relaxation set-up, output)."""
     split = {"assembly": timings["assembly"], "discrete_terms": timings["discrete_terms"],
-             "linear_solve_and_newton": timings["newton"], "stability": timings["stability"]}
+             "factorisation": timings["factorisation"], "linear_solve": timings["linear_solve"],
+             "newton_other": timings["newton"], "stability": timings["stability"]}
     split["other"] = wall - sum(split.values())
     return split
 

@@ -204,7 +204,7 @@ class DoubleCraterCycle:
                     if not path.solve_at(start, fallbacks=True):
                         raise SteppingError(f"{stage}: no equilibrium at eps = {start:.6g} "
                                             f"({'chambers merged' if self.topology else 'at rest'}): "
-                                            f"{problem.failure()}", start)
+                                            f"{problem.failure}", start)
                     run.record(self.observe(stage, start))
                 path.start()
                 if not self.shapes:  # the walls are known to the self-contact once bound

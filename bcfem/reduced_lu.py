@@ -1,0 +1,89 @@
+"""The reduced-space Newton step of ``vinewtonrsls``, factorised without a new analysis.
+
+``vinewtonrsls`` solves J_II y_I = -F_I on the unknowns I not held at a bound. It extracts
+J_II as a new matrix at every iteration, so a direct solver redoes its symbolic analysis
+(ordering, elimination tree) every time. The same step solves the full-size system with
+the held rows and columns replaced by the identity, [J_II 0; 0 1] y = [F_I; 0], whose
+sparsity never changes: one analysis serves a whole path, and each iteration pays the
+numerical factorisation alone.
+"""
+
+from __future__ import annotations
+
+from petsc4py import PETSc
+
+import numpy as np
+
+
+class ReducedLU:
+    """A petsc4py ``python`` PC for the KSP of a ``vinewtonrsls`` SNES (see the module).
+
+    Args:
+        snes: the SNES; its Jacobian is assembled at the iterate when the PC is set up.
+        solver_type: the factorisation package (e.g. ``mumps``).
+        prefix: options prefix of the inner factorisation (the problem's, so that the
+            user's ``-<prefix>mat_mumps_*`` options apply to it).
+    """
+
+    def __init__(self, snes: PETSc.SNES, solver_type: str, prefix: str):
+        self.snes = snes
+        self.ksp = PETSc.KSP().create(snes.comm)
+        self.ksp.setOptionsPrefix(prefix)
+        self.ksp.setType("preonly")
+        self.ksp.getPC().setType("lu")
+        self.ksp.getPC().setFactorSolverType(solver_type)
+        self.matrix: PETSc.Mat | None = None
+        self._entries = -1
+        self._inactive: np.ndarray | None = None
+        self._held: np.ndarray | None = None
+        self._scatter: PETSc.Scatter | None = None
+        self._rhs = self._solution = None
+        #: symbolic analyses done (a new sparsity of the Jacobian needs one)
+        self.analyses = 0
+
+    def setUp(self, pc: PETSc.PC) -> None:
+        jacobian = self.snes.getJacobian()[0]
+        entries = jacobian.getInfo()["nz_used"]  # a discrete term may add entries
+        if self.matrix is None or entries != self._entries:
+            self._destroy_matrix()
+            self.matrix = jacobian.duplicate(copy=True)
+            self.matrix.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
+            self._rhs, self._solution = self.matrix.createVecs()
+            self._entries = entries
+            self.analyses += 1
+        else:
+            jacobian.copy(self.matrix, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        inactive = self.snes.getVIInactiveSet().getIndices()
+        if self._inactive is None or not np.array_equal(inactive, self._inactive):
+            start, end = self.matrix.getOwnershipRange()
+            self._inactive = inactive.copy()
+            self._held = np.setdiff1d(np.arange(start, end, dtype=inactive.dtype), inactive)
+            if self._scatter is not None:
+                self._scatter.destroy()
+                self._scatter = None
+        self.matrix.zeroRowsColumns(self._held, diag=1.0)
+        self.ksp.setOperators(self.matrix)
+        self.ksp.setUp()
+
+    def apply(self, pc: PETSc.PC, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        if self._scatter is None:
+            index_set = PETSc.IS().createGeneral(self._inactive, comm=self.snes.comm)
+            self._scatter = PETSc.Scatter().create(self._rhs, index_set, x, None)
+            index_set.destroy()
+        self._rhs.zeroEntries()
+        self._scatter.scatter(x, self._rhs, PETSc.InsertMode.INSERT_VALUES, PETSc.ScatterMode.REVERSE)
+        self.ksp.solve(self._rhs, self._solution)
+        self._scatter.scatter(self._solution, y, PETSc.InsertMode.INSERT_VALUES, PETSc.ScatterMode.FORWARD)
+
+    def reset(self, pc: PETSc.PC) -> None:
+        """vinewtonrsls resets its KSP when the inactive set changes: the analysis stays."""
+
+    def _destroy_matrix(self) -> None:
+        for obj in (self.matrix, self._rhs, self._solution, self._scatter):
+            if obj is not None:
+                obj.destroy()
+        self.matrix = self._rhs = self._solution = self._scatter = None
+
+    def destroy(self, pc: PETSc.PC | None = None) -> None:
+        self._destroy_matrix()
+        self.ksp.destroy()
