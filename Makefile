@@ -3,7 +3,7 @@ VENV  ?= .venv
 BIN   := $(VENV)/bin
 NP    ?= 2
 
-.PHONY: venv demo test test-all bench report clean
+.PHONY: venv demo test test-all bench profile report clean
 
 venv:
 	@./tools/bootstrap.sh
@@ -28,10 +28,17 @@ test-all: venv
 
 DEMOS := $(filter-out _%,$(basename $(notdir $(wildcard demos/*.py))))
 
+# where one run's time goes (one core): make profile ARGS="blister-rigid --v-max 2"
+PROFILE_ARGS ?= crater --preload 0.3
+profile: venv
+	$$(command -v taskset >/dev/null && echo taskset -c 0) $(BIN)/bcfem run $(or $(ARGS),$(PROFILE_ARGS)) \
+		--out results/profile --quiet --no-plots --profile
+
 # error against run time: docs/benchmarks/<scene>.{csv,md,png}
 bench: venv
 	$(BIN)/python benchmarks/blister_rigid.py
 	$(BIN)/python benchmarks/blister_shooting.py
+	$(BIN)/python benchmarks/speed.py
 	$(BIN)/python benchmarks/blister_edges.py
 	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/newtonal_vs_bordered.py
 	$(BIN)/python benchmarks/crater_air.py

@@ -1,0 +1,259 @@
+"""Before and after, in one run: the crater cycles and the blister of issue #26.
+
+Each case runs as a whole ``bcfem run`` process pinned to one core (one BLAS thread), with
+the code of two commits: ``--before`` (checked out into a temporary git worktree) and the
+working tree. Rounds interleave the versions and cases in shuffled order so that both see
+the machine alike; the best wall time is kept, and the median shown beside it. One more
+run of each case under PETSc's ``-log_view`` counts the factorisations and assemblies.
+The blister's yardstick is the scipy shooting code of ``blister_shooting.py`` at the
+tolerance whose error matches the default mesh's.
+
+Cases: the hemisphere's cycle (``bcfem run crater``) at preload 0.2, 0.3 and closure, and
+``bcfem run blister-rigid --material neo-hookean --alpha 0 --v-max 1``.
+
+Usage (from the repository root, on an otherwise idle machine)::
+
+    .venv/bin/python benchmarks/speed.py                 # 3 rounds, about 8 min
+    .venv/bin/python benchmarks/speed.py --before 14f700f --repeats 5
+
+Writes ``docs/benchmarks/speed.{csv,md,png}``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import random
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from common import ROOT, atomic_text, busy_cores, csv_text, loadavg, save_figure
+
+#: the commit before issue #26's solver changes
+BEFORE = "14f700f"
+OUT = ROOT / "docs" / "benchmarks"
+BCFEM = ROOT / ".venv" / "bin" / "bcfem"
+CASES = {
+    "crater 0.2": ["crater", "--preload", "0.2"],
+    "crater 0.3": ["crater", "--preload", "0.3"],
+    "crater closure": ["crater", "--preload", "closure"],
+    "blister": ["blister-rigid", "--material", "neo-hookean", "--alpha", "0", "--v-max", "1"],
+}
+#: the shooting code's ODE tolerance: error 6e-12 in P_max, the default blister mesh's 3e-11
+SHOOTING_RTOL = 1e-10
+#: PETSc events counted from -log_view
+COUNTED = ("MatLUFactorSym", "MatLUFactorNum", "SNESJacobianEval", "SNESFunctionEval", "MatCreateSubMats")
+#: the parts of the split spent inside Newton solves
+NEWTON = ("assembly", "discrete_terms", "factorisation", "linear_solve", "newton_other")
+SPLIT = ("assembly", "discrete_terms", "factorisation", "linear_solve", "newton_other", "stability", "other")
+
+
+def environment() -> dict:
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    env.pop("PETSC_OPTIONS", None)
+    return env
+
+
+def pinned(cmd: list[str]) -> list[str]:
+    return ["taskset", "-c", "0", *cmd] if shutil.which("taskset") else cmd
+
+
+def run_case(code: Path, case: str, out: Path, log_view: Path | None = None) -> dict:
+    """One whole ``bcfem run`` process with the package at ``code``."""
+    env = environment()
+    env["PYTHONPATH"] = str(code)
+    if log_view:
+        env["PETSC_OPTIONS"] = f"-log_view :{log_view}"
+    cmd = pinned([str(BCFEM), "run", *CASES[case], "--out", str(out), "--quiet", "--no-plots"])
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, env=env, cwd=tempfile.gettempdir(), capture_output=True, text=True)
+    process = time.perf_counter() - t0
+    if proc.returncode != 0:
+        raise RuntimeError(f"{case} with {code} failed:\n{proc.stderr[-2000:]}")
+    summary = json.loads((out / "summary.json").read_text())
+    split = summary["time_split_s"]
+    if "linear_solve_and_newton" in split:  # the older split: one part for all of Newton's rest
+        split = {**split, "newton_other": split.pop("linear_solve_and_newton")}
+    result = (summary["F_tilde"] if case.startswith("crater") else
+              next(lp["P"] for lp in summary["limit_points"] if lp["kind"] == "max"))
+    its = max(summary["newton_iterations"], 1)
+    newton = sum(split.get(k, 0.0) for k in NEWTON)
+    return {"process": process, "run": summary["wall_time_s"], "result": result,
+            "ms_per_iteration": 1e3 * newton / its, "factorisation_ms_per_iteration": 1e3 * split.get("factorisation", 0) / its,
+            "steps": summary["steps"], "newton_iterations": summary["newton_iterations"],
+            "failed_solves": summary["failed_solves"], "stability": summary.get("stability", ""),
+            **{f"split_{k}": split.get(k, 0.0) for k in SPLIT}}
+
+
+def shooting() -> dict:
+    cmd = pinned([sys.executable, "-c", "import blister_shooting as b; b.main()", "--shoot",
+                  json.dumps({"rtol": SHOOTING_RTOL})])
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, env=environment(), cwd=ROOT / "benchmarks", capture_output=True, text=True,
+                          check=True)
+    process = time.perf_counter() - t0
+    line = next(ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT "))
+    return {"process": process, "result": json.loads(line[7:])["P_max"]}
+
+
+def counts(log: Path) -> dict:
+    """Event counts from a -log_view file."""
+    found = dict.fromkeys(COUNTED, 0)
+    for line in log.read_text().splitlines():
+        m = re.match(r"^(\w+)\s+(\d+)\s", line)
+        if m and m.group(1) in found:
+            found[m.group(1)] = int(m.group(2))
+    return found
+
+
+def worktree(commit: str) -> Path:
+    path = Path(tempfile.mkdtemp(prefix="bcfem-before-"))
+    subprocess.run(["git", "worktree", "add", "--detach", str(path), commit], cwd=ROOT, check=True,
+                   capture_output=True)
+    return path
+
+
+def measure(before: Path, repeats: int, cases) -> tuple[list[dict], dict]:
+    versions = {"before": before, "after": ROOT}
+    jobs = [(v, c) for v in versions for c in cases] + ([("shooting", "blister")] if "blister" in cases else [])
+    times: dict = {job: [] for job in jobs}
+    last: dict = {}
+    scratch = Path(tempfile.mkdtemp(prefix="bcfem-speed-"))
+    for rnd in range(repeats):
+        random.Random(rnd).shuffle(jobs)
+        for version, case in jobs:
+            out = scratch / f"{version}-{case.replace(' ', '_')}-{rnd}"
+            r = shooting() if version == "shooting" else run_case(versions[version], case, out)
+            times[(version, case)].append(r)
+            last[(version, case)] = r
+            print(f"round {rnd + 1}/{repeats}  {version:8s} {case:15s} {r['process']:7.2f} s", flush=True)
+    rows = []
+    for (version, case), rs in sorted(times.items(), key=lambda kv: (kv[0][1], kv[0][0] != "before")):
+        best = min(rs, key=lambda r: r["process"])
+        row = {"version": version, "case": case, **best, "process_median": statistics.median(r["process"] for r in rs),
+               "repeats": len(rs), "results_spread": max(r["result"] for r in rs) - min(r["result"] for r in rs)}
+        if version != "shooting":
+            log = scratch / f"log-{version}-{case.replace(' ', '_')}.txt"
+            run_case(versions[version], case, scratch / f"counted-{version}-{case.replace(' ', '_')}", log)
+            row.update(counts(log))
+        rows.append(row)
+    shutil.rmtree(scratch, ignore_errors=True)
+    return rows, {"load_start": loadavg()}
+
+
+COLUMNS = ["case", "version", "process", "process_median", "run", "result", "steps", "newton_iterations",
+           "ms_per_iteration", "factorisation_ms_per_iteration",
+           "failed_solves", "stability", *COUNTED, *(f"split_{k}" for k in SPLIT), "repeats", "results_spread"]
+
+
+def table(rows: list[dict], commit: str) -> list[str]:
+    L = ["| case | version | process [s] (median) | run [s] | F~ or P_max | Newton its | ms per it (factorisation) "
+         "| failed solves | analyses / factorisations | Jacobians / residuals | assembly | discrete | factorisation "
+         "| solve | Newton rest | stability | other |", "|" + "---|" * 18]
+    for r in rows:
+        label = f"before ({commit})" if r["version"] == "before" else r["version"]
+        if r["version"] == "shooting":
+            L.append(f"| {r['case']} | shooting, rtol {SHOOTING_RTOL:.0e} | {r['process']:.2f} "
+                     f"({r['process_median']:.2f}) | | {r['result']:.13f} |" + " |" * 12)
+            continue
+        split = " | ".join(f"{r[f'split_{k}']:.2f}" for k in SPLIT)
+        L.append(f"| {r['case']} | {label} | {r['process']:.2f} ({r['process_median']:.2f}) | {r['run']:.2f} | "
+                 f"{r['result']:.13g} | {r['newton_iterations']} | {r['ms_per_iteration']:.1f} "
+                 f"({r['factorisation_ms_per_iteration']:.1f}) | {r['failed_solves']} | "
+                 f"{r['MatLUFactorSym']} / {r['MatLUFactorNum']} | {r['SNESJacobianEval']} / "
+                 f"{r['SNESFunctionEval']} | {split} |")
+    return L
+
+
+def figure(rows: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    runs = [r for r in rows if r["version"] != "shooting"]
+    fig, ax = plt.subplots(figsize=(8, 4))
+    labels = [f"{r['case']}\n{r['version']}" for r in runs]
+    bottom = [0.0] * len(runs)
+    for k in SPLIT:
+        values = [r[f"split_{k}"] for r in runs]
+        ax.bar(labels, values, bottom=bottom, label=k)
+        bottom = [b + v for b, v in zip(bottom, values)]
+    ax.set_ylabel("wall time of the run [s] (one core)")
+    ax.set_title("bcfem run: where the time goes, before and after")
+    ax.legend(fontsize=7)
+    ax.tick_params(axis="x", labelsize=7)
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+MAPS = Path("docs/figures/crater_design/sweeps")
+
+
+def map_timings(commit: str) -> list[str]:
+    """The design maps' timings: each map's ``timing.json`` now, and at ``commit`` (git)."""
+    L = ["## The twelve design maps", "",
+         "Solved from nothing by `mpirun -n 2 python demos/crater_design.py --full --out DIR` (the maps kept in "
+         f"`{MAPS}`); each map's `timing.json`. Core-seconds = wall x ranks.", "",
+         f"| map | points | failed | wall [s] | ranks | core-s | before ({commit}): core-s (ranks) |",
+         "|---|---|---|---|---|---|---|"]
+    total = [0.0, 0.0, 0.0]
+    for path in sorted((ROOT / MAPS).glob("*/timing.json")):
+        now = json.loads(path.read_text())
+        old = subprocess.run(["git", "show", f"{commit}:{MAPS / path.parent.name / 'timing.json'}"], cwd=ROOT,
+                             capture_output=True, text=True)
+        old = json.loads(old.stdout) if old.returncode == 0 else None
+        core_now = now["wall_time_s"] * now["ranks"]
+        core_old = old["wall_time_s"] * old["ranks"] if old else float("nan")
+        total = [total[0] + now["wall_time_s"], total[1] + core_now, total[2] + core_old]
+        L.append(f"| {path.parent.name} | {now['solved']} | {now['failed']} | {now['wall_time_s']:.0f} | "
+                 f"{now['ranks']} | {core_now:.0f} | {core_old:.0f} ({old['ranks'] if old else ''}) |")
+    L.append(f"| **all** | | | **{total[0]:.0f}** ({total[0] / 60:.1f} min) | | {total[1]:.0f} | {total[2]:.0f} |")
+    return L
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--before", default=BEFORE, help=f"the commit to compare with (default {BEFORE})")
+    parser.add_argument("--repeats", type=int, default=3, help="rounds (default 3)")
+    parser.add_argument("--cases", nargs="+", choices=list(CASES), default=list(CASES), metavar="CASE",
+                        help=f"a subset of: {', '.join(CASES)}")
+    args = parser.parse_args(argv)
+    busy = busy_cores()
+    before = worktree(args.before)
+    try:
+        rows, info = measure(before, args.repeats, args.cases)
+    finally:
+        subprocess.run(["git", "worktree", "remove", "--force", str(before)], cwd=ROOT, capture_output=True)
+    head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                          text=True).stdout.strip()
+    atomic_text(OUT / "speed.csv", csv_text(rows, COLUMNS))
+    figure(rows, OUT / "speed.png")
+    cpu = next((ln.split(":", 1)[1].strip() for ln in Path("/proc/cpuinfo").read_text().splitlines()
+                if ln.startswith("model name")), platform.processor()) if Path("/proc/cpuinfo").exists() else "?"
+    L = ["# Benchmark: before and after the solver changes of issue #26", "",
+         f"Regenerate with `.venv/bin/python benchmarks/speed.py --repeats {args.repeats}` (part of `make bench`). "
+         f"Measured on `{cpu}` ({os.cpu_count()} cores; {busy:.2f} cores busy with other work at the start, "
+         f"load average {info['load_start']}), before = {args.before}, after = {head} (working tree).", "",
+         "Every case is a whole `bcfem run ... --quiet --no-plots` process pinned to one core; `process` is its "
+         f"best wall time over {args.repeats} interleaved rounds (median in brackets), `run` its `wall_time_s` "
+         "(solve and output, without imports and meshing), the split from `time_split_s` (the version before "
+         "has no factorisation/solve parts: its 'Newton rest' holds them). Analyses, factorisations, Jacobians "
+         "and residuals are PETSc's event counts (MatLUFactorSym, MatLUFactorNum, SNESJacobianEval, "
+         "SNESFunctionEval) from one more run under `-log_view`; they include the stability checks' "
+         "factorisations.", "", *table(rows, args.before), "", "![time split](speed.png)", "",
+         *map_timings(args.before)]
+    atomic_text(OUT / "speed.md", "\n".join(L) + "\n")
+    print(f"wrote {OUT / 'speed.md'}")
+
+
+if __name__ == "__main__":
+    main()
