@@ -60,6 +60,23 @@ def test_a_two_cycle_stops_at_its_first_repeat_with_the_reason_max_it_would_give
 
 
 @pytest.mark.mpi
+def test_a_creeping_solve_is_no_cycle():
+    """Steps shortened to 1e-7 of Newton's move little, and the residual hardly falls; the
+    iterates never come back, so the solve is left to its iteration budget."""
+    comm = MPI.COMM_WORLD
+    snes, x = scalar_snes(signed_root, lambda x: 0.5 / np.sqrt(abs(x)), comm, max_it=12)
+
+    def shorten(x, y):
+        y.scale(1e-7)
+
+    snes.setLineSearchPreCheck(shorten)
+    cycles = RepeatedIterates(snes, comm)
+    x.set(1.0)
+    snes.solve(None, x)
+    assert snes.getIterationNumber() == 12 and cycles.stopped == 0
+
+
+@pytest.mark.mpi
 def test_a_converging_solve_is_left_alone():
     comm = MPI.COMM_WORLD
     # Newton on x^2 - 2 from 1: the iterates approach each other, the residual falls
