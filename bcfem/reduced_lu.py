@@ -10,6 +10,7 @@ numerical factorisation alone.
 
 from __future__ import annotations
 
+from mpi4py import MPI
 from petsc4py import PETSc
 
 import numpy as np
@@ -54,7 +55,9 @@ class ReducedLU:
         else:
             jacobian.copy(self.matrix, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
         inactive = self.snes.getVIInactiveSet().getIndices()
-        if self._inactive is None or not np.array_equal(inactive, self._inactive):
+        changed = self._inactive is None or not np.array_equal(inactive, self._inactive)
+        # the scatter is rebuilt collectively: on every rank when the set changed on any
+        if self.snes.comm.tompi4py().allreduce(changed, op=MPI.LOR):
             start, end = self.matrix.getOwnershipRange()
             self._inactive = inactive.copy()
             self._held = np.setdiff1d(np.arange(start, end, dtype=inactive.dtype), inactive)
