@@ -89,9 +89,9 @@ def test_a_converging_solve_is_left_alone():
     assert value == pytest.approx(np.sqrt(2.0), rel=1e-14)
 
 
-def obstacle_snes(comm, n, reduced: bool):
+def obstacle_snes(comm, n, reduced: bool, loaded: float = 1.0):
     """A discrete membrane -u'' + u^3 = -g (u = 0 at both ends) over the obstacle
-    u >= -0.3, solved by vinewtonrsls."""
+    u >= -0.3, solved by vinewtonrsls; g = 10 on the first ``loaded`` part of the span."""
     h = 1.0 / (n + 1)
     x = PETSc.Vec().createMPI(n, comm=comm)
     start, end = x.getOwnershipRange()
@@ -103,7 +103,7 @@ def obstacle_snes(comm, n, reduced: bool):
         scatter.scatter(x, local)
         u = np.concatenate(([0.0], local.array_r, [0.0]))
         i = np.arange(start, end) + 1
-        f.array[:] = (2 * u[i] - u[i - 1] - u[i + 1]) / h**2 + u[i] ** 3 + 10.0
+        f.array[:] = (2 * u[i] - u[i - 1] - u[i + 1]) / h**2 + u[i] ** 3 + 10.0 * (i <= loaded * n)
 
     def jacobian(snes, x, J, P):
         scatter.scatter(x, local)
@@ -136,11 +136,12 @@ def obstacle_snes(comm, n, reduced: bool):
 
 
 @pytest.mark.mpi
-def test_the_reduced_step_on_the_full_sparsity_gives_vinewtonrsls_own_iterates():
+@pytest.mark.parametrize("loaded", [1.0, 0.3])  # 0.3: the contact set changes on rank 0's rows only
+def test_the_reduced_step_on_the_full_sparsity_gives_vinewtonrsls_own_iterates(loaded):
     comm = MPI.COMM_WORLD
     solutions, histories = [], []
     for reduced in (False, True):
-        snes, x, context = obstacle_snes(comm, 200, reduced)
+        snes, x, context = obstacle_snes(comm, 200, reduced, loaded)
         snes.setConvergenceHistory()
         x.set(0.0)
         snes.solve(None, x)
@@ -149,7 +150,7 @@ def test_the_reduced_step_on_the_full_sparsity_gives_vinewtonrsls_own_iterates()
         histories.append(snes.getConvergenceHistory()[0])
         if reduced:
             # the active set changed from iteration to iteration, the analysis was done once
-            assert snes.getIterationNumber() >= 3 and context.analyses == 1
+            assert snes.getIterationNumber() >= 2 and context.analyses == 1
     held = comm.allreduce(int(np.sum(solutions[1].array_r <= -0.3 + 1e-12)))
     assert 0 < held < 200  # the obstacle is touched, not everywhere
     assert len(histories[0]) == len(histories[1])
