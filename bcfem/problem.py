@@ -360,6 +360,8 @@ class Problem(ConvergedAlgebra):
         if self._tangent_ksp is not None:
             self._tangent_ksp.destroy()
             self._tangent_ksp = None
+        if self._nlp is not None and self.snes.getKSP().getPC().getType() == "python":
+            self.snes.getKSP().getPC().getPythonContext().destroy()  # ReducedLU (set_bounds)
         for vec in self._bounds:
             vec.destroy()
         self._bounds = ()

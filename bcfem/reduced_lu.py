@@ -88,5 +88,8 @@ class ReducedLU:
         self.matrix = self._rhs = self._solution = self._scatter = None
 
     def destroy(self, pc: PETSc.PC | None = None) -> None:
+        """Free the factorisation and drop the SNES: the SNES owns this context through its
+        PC, so holding it on would keep both alive (called by :meth:`Problem.close`)."""
         self._destroy_matrix()
         self.ksp.destroy()
+        self.snes = None
