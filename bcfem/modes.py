@@ -31,17 +31,27 @@ has its mean over the body held by a multiplier.
 
 Unstable directions are counted as in :mod:`bcfem.stability` (Sylvester's law
 on the saddle-point matrix). Discrete terms (self-contact) are not included.
+
+G is linear in the mode and affine in n, and the block is the second variation
+at the mode's zero, D²L[G(δw), G(Δw)] (no second derivative of G): so the
+block is exactly quadratic in n. A scan of many n >= 2 assembles it at three
+wave numbers and interpolates the others (three sums of matrices each), which
+is the same matrix up to round-off.
 """
 
 from __future__ import annotations
 
+import math
+
+from petsc4py import PETSc
+
 import numpy as np
 import ufl
 from dolfinx import default_scalar_type, fem
-from dolfinx.fem.petsc import assemble_matrix
+from dolfinx.fem.petsc import assemble_matrix, create_matrix
 
 from bcfem.mpi import global_dofs
-from bcfem.stability import negative_eigenvalues
+from bcfem.stability import Inertia
 
 
 class ModeKinematics:
@@ -123,6 +133,9 @@ class ModeContext:
 class ModeAnalysis:
     """Counts the unstable Fourier modes n >= 1 of the current axisymmetric state of ``ctx``.
 
+    Its matrices and factorisations are kept from count to count; :meth:`close` destroys
+    them (collective).
+
     Args:
         ctx: the axisymmetric model's context (its states are the base state).
         terms: the energy terms of the current stage (discrete terms and terms that need
@@ -130,6 +143,9 @@ class ModeAnalysis:
         bcs: the axisymmetric problem's Dirichlet conditions on the displacement.
         prefix: PETSc options prefix of the factorisations.
     """
+
+    #: a scan interpolates the block in n when it has at least this many n >= 2
+    INTERPOLATE_FROM = 4
 
     def __init__(self, ctx, terms, bcs, prefix: str = "bcfem_modes_"):
         self.ctx = ctx
@@ -165,8 +181,16 @@ class ModeAnalysis:
                 block = ufl.algorithms.expand_derivatives(block)
                 row.append(None if block.empty() else block)
             blocks.append(row)
-        return {"forms": fem.form(blocks), "space": V, "multipliers": multipliers,
-                "nodes": V.tabulate_dof_coordinates()}
+        forms = fem.form(blocks)
+        return {"forms": forms, "space": V, "multipliers": multipliers,
+                "nodes": V.tabulate_dof_coordinates(), "matrix": create_matrix(forms), "nodal": [],
+                "inertia": Inertia(self.prefix)}
+
+    def _compiled(self, n: int) -> dict:
+        kind = "translation" if n == 1 else "waves"
+        if kind not in self._forms:
+            self._forms[kind] = self._build(translation=(n == 1))
+        return self._forms[kind]
 
     def _bcs(self, compiled, n: int, held) -> list:
         V = compiled["space"]
@@ -187,6 +211,16 @@ class ModeAnalysis:
         return [fem.dirichletbc(default_scalar_type(0.0), (3 * np.unique(np.concatenate(nodes)) + k).astype(np.int32),
                                 V.sub(k)) for k, nodes in fixed.items() if nodes]
 
+    def _assemble(self, compiled, n: int, bcs, A: PETSc.Mat) -> PETSc.Mat:
+        self.n.value = float(n)
+        A.zeroEntries()
+        assemble_matrix(A, compiled["forms"], bcs=bcs)
+        A.assemble()
+        return A
+
+    def _count(self, compiled, A: PETSc.Mat) -> int:
+        return compiled["inertia"].negative(A) - compiled["multipliers"]
+
     def unstable(self, n: int, held=None) -> int:
         """Number of unstable modes with ``n`` >= 1 waves at the current state.
 
@@ -197,19 +231,53 @@ class ModeAnalysis:
         """
         if n < 1 or int(n) != n:
             raise ValueError(f"the wave number n must be an integer >= 1 (got {n})")
-        kind = "translation" if n == 1 else "waves"
-        if kind not in self._forms:
-            self._forms[kind] = self._build(translation=(n == 1))
-        compiled = self._forms[kind]
-        self.n.value = float(n)
-        A = assemble_matrix(compiled["forms"], bcs=self._bcs(compiled, n, held))
-        A.assemble()
-        try:
-            negative = negative_eigenvalues(A, self.prefix)
-        finally:
-            A.destroy()
-        return negative - compiled["multipliers"]
+        compiled = self._compiled(int(n))
+        A = self._assemble(compiled, int(n), self._bcs(compiled, int(n), held), compiled["matrix"])
+        return self._count(compiled, A)
 
     def scan(self, waves, held=None) -> dict[int, int]:
         """{n: unstable modes} for every n in ``waves``."""
-        return {int(n): self.unstable(int(n), held) for n in waves}
+        waves = sorted({int(n) for n in waves})
+        if any(n < 1 for n in waves):
+            raise ValueError(f"the wave numbers must be integers >= 1 (got {waves})")
+        many = [n for n in waves if n >= 2]
+        if len(many) < self.INTERPOLATE_FROM:
+            return {n: self.unstable(n, held) for n in waves}
+        counts = {1: self.unstable(1, held)} if 1 in waves else {}
+        compiled = self._compiled(2)
+        for n, A in zip(many, self.interpolated(many, held)):
+            counts[n] = self._count(compiled, A)
+        return counts
+
+    def interpolated(self, waves, held=None):
+        """The blocks of the wave numbers ``waves`` (all >= 2, at least three), each
+        interpolated from the blocks assembled at the least, the middle and the greatest of
+        them (Lagrange, exact for a quadratic); each is yielded in the same kept matrix."""
+        compiled = self._compiled(2)
+        nodes = sorted({min(waves), waves[len(waves) // 2], max(waves)})
+        if len(nodes) < 3:
+            raise ValueError(f"interpolation needs three distinct wave numbers (got {waves})")
+        nodal = compiled["nodal"]
+        while len(nodal) < 3:
+            nodal.append(create_matrix(compiled["forms"]))
+        bcs = self._bcs(compiled, 2, held)
+        for node, B in zip(nodes, nodal):
+            self._assemble(compiled, node, bcs, B)
+        A = compiled["matrix"]
+        if not A.assembled:  # the forms' pattern, which the sums keep
+            self._assemble(compiled, nodes[0], bcs, A)
+        same = PETSc.Mat.Structure.SAME_NONZERO_PATTERN
+        for n in waves:
+            weights = [math.prod((n - m) / (node - m) for m in nodes if m != node) for node in nodes]
+            A.zeroEntries()
+            for weight, B in zip(weights, nodal):
+                A.axpy(weight, B, same)
+            yield A
+
+    def close(self) -> None:
+        """Destroy the kept matrices and factorisations (collective)."""
+        for compiled in self._forms.values():
+            compiled["inertia"].close()
+            for A in [compiled["matrix"], *compiled["nodal"]]:
+                A.destroy()
+        self._forms = {}

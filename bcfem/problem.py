@@ -100,6 +100,7 @@ class Problem(ConvergedAlgebra):
         self.bounded_steps = 0
         self._tangent_ksp = None
         self._bounds: tuple[PETSc.Vec, ...] = ()
+        self._owned = []
         for term in self.discrete:
             term.bind(self)
         #: seconds spent within Newton solves in: form assembly, discrete terms, the direct
@@ -351,12 +352,22 @@ class Problem(ConvergedAlgebra):
             pc.setType("python")
             pc.setPythonContext(ReducedLU(self.snes, solver, self.prefix))
 
+    def own(self, resource):
+        """Close ``resource`` (anything with a collective ``close()``, such as a
+        :class:`~bcfem.modes.ModeAnalysis` of this problem's states) with this problem;
+        returns it."""
+        self._owned.append(resource)
+        return resource
+
     def close(self) -> None:
         """Destroy the PETSc objects now, in the same order on every rank.
 
         Left to the garbage collector, their collective destruction can happen in
         a different order on different ranks and deadlock at exit.
         """
+        for resource in self._owned:
+            resource.close()
+        self._owned = []
         if self._tangent_ksp is not None:
             self._tangent_ksp.destroy()
             self._tangent_ksp = None

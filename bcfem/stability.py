@@ -62,23 +62,68 @@ def _negative_modes(problem, active_tol: float, held: tuple[str, ...]) -> int:
 def negative_eigenvalues(A: PETSc.Mat, prefix: str) -> int:
     """The number of negative eigenvalues of the symmetric matrix ``A`` (all ranks), from
     MUMPS' LDLᵀ factorisation; options under ``prefix`` (e.g. ``-PREFIX mat_mumps_icntl_14``)."""
-    A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
-    opts = PETSc.Options()
-    opts[prefix + "mat_mumps_icntl_13"] = 1  # no ScaLAPACK root: global inertia
-    opts[prefix + "mat_mumps_icntl_24"] = 1  # detect null pivots rather than fail
-    ksp = PETSc.KSP().create(A.getComm())
+    inertia = Inertia(prefix)
     try:
-        ksp.setOptionsPrefix(prefix)
-        ksp.setType("preonly")
-        pc = ksp.getPC()
-        pc.setType("cholesky")
-        pc.setFactorSolverType("mumps")
-        ksp.setOperators(A)
-        ksp.setFromOptions()
-        ksp.setUp()
-        negative, _, _ = pc.getFactorMatrix().getInertia()
+        return inertia.negative(A)
     finally:
-        ksp.destroy()
-        for key in ("mat_mumps_icntl_13", "mat_mumps_icntl_24"):
-            opts.delValue(prefix + key)
-    return int(negative)
+        inertia.close()
+
+
+class Inertia:
+    """Negative eigenvalues of symmetric matrices that share one matrix object (and so one
+    sparsity pattern): MUMPS analyses the pattern at the first count, and every later count
+    is a numerical LDLᵀ factorisation only. Destroy with :meth:`close` (collective)."""
+
+    def __init__(self, prefix: str):
+        self.prefix = prefix
+        self._ksp: PETSc.KSP | None = None
+        self._matrix: PETSc.Mat | None = None
+
+    def negative(self, A: PETSc.Mat) -> int:
+        """Negative eigenvalues of ``A``, a matrix whose values may have changed since the
+        last count (a new matrix object means a new analysis)."""
+        A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        fresh = self._ksp is None or A.handle != self._matrix.handle
+        if fresh:
+            self._create(A)
+        try:
+            self._ksp.setOperators(A)  # new values: a numerical factorisation only
+            self._ksp.setUp()  # MUMPS reads its options at the analysis
+        except PETSc.Error:
+            self.close()  # a failed factorisation would otherwise stick to the PC
+            raise
+        finally:
+            if fresh:
+                for key, _ in self._OPTIONS:
+                    PETSc.Options().delValue(self.prefix + key)
+        negative, _, _ = self._ksp.getPC().getFactorMatrix().getInertia()
+        return int(negative)
+
+    # no ScaLAPACK root (ICNTL 13): a global inertia; detect null pivots rather than fail (24)
+    _OPTIONS = (("mat_mumps_icntl_13", 1), ("mat_mumps_icntl_24", 1))
+
+    def _create(self, A: PETSc.Mat) -> None:
+        self.close()
+        opts = PETSc.Options()
+        for key, value in self._OPTIONS:
+            opts[self.prefix + key] = value
+        ksp = PETSc.KSP().create(A.getComm())
+        try:
+            ksp.setOptionsPrefix(self.prefix)
+            ksp.setType("preonly")
+            pc = ksp.getPC()
+            pc.setType("cholesky")
+            pc.setFactorSolverType("mumps")
+            ksp.setOperators(A)
+            ksp.setFromOptions()
+        except BaseException:
+            ksp.destroy()
+            for key, _ in self._OPTIONS:
+                opts.delValue(self.prefix + key)
+            raise
+        self._ksp, self._matrix = ksp, A
+
+    def close(self) -> None:
+        if self._ksp is not None:
+            self._ksp.destroy()
+        self._ksp = self._matrix = None

@@ -129,7 +129,7 @@ class FundamentalCycle:
             return {**model.observe(stage, eps, V1), "platen_force": global_sum(force) / A0}
 
         stability = LoadPath(problem, model.set_platen, stage, events=events, held=(PARAMETER,), load_name="eps",
-                             waves=model.wave_check(terms, run.prefix(stage) + "modes_"))
+                             waves=model.wave_check(problem, terms))
         stability.start()
 
         def accept(values: dict) -> None:

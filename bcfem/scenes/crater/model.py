@@ -160,12 +160,14 @@ class Crater:
         lower[problem.names.index("displacement")].x.array[np.asarray(zmap).reshape(-1)[self._wall_dofs]] = -Z
         problem.set_bounds(lower, upper)
 
-    def wave_check(self, terms, prefix: str):
+    def wave_check(self, problem, terms):
         """None, or {n: unstable modes with n waves} at the current state, n = 1..``waves``;
-        the wall nodes on the plate hold their normal displacement."""
+        the wall nodes on the plate hold their normal displacement. Its matrices are closed
+        with ``problem``."""
         if not self.params.waves:
             return None
-        analysis = ModeAnalysis(self.ctx, [t for t in terms if t is not self.viscosity], self.bcs, prefix)
+        analysis = problem.own(ModeAnalysis(self.ctx, [t for t in terms if t is not self.viscosity], self.bcs,
+                                            problem.prefix + "modes_"))
         X, zdofs, _ = self._wall
         tolerance = 1e-9 * self.geometry.crater_radius
 

@@ -110,7 +110,7 @@ class CraterCycle:
             if careful:
                 loading.bound_steps()
             path = self._path(loading, model.set_platen, "load", events,
-                              model.wave_check(model.terms(), run.prefix("load") + "modes_"))
+                              model.wave_check(loading, model.terms()))
             run.record(model.observe("load", 0.0))
             path.start()
             if params.preload == PRELOAD_TO_CLOSURE:
@@ -135,7 +135,7 @@ class CraterCycle:
             if careful:
                 unloading.bound_steps()
             path = self._path(unloading, model.set_platen, "unload", events,
-                              model.wave_check(terms, run.prefix("unload") + "modes_"))
+                              model.wave_check(unloading, terms))
             zero_force = self._unload(model, path, unloading, preload, 0.0 if closed else V1, closed, run)
             final = model.observe("unload", model.strain, 0.0 if closed else V1)
         finish(run, model, final, V1, closed, preload, zero_force, events, path.unstable)

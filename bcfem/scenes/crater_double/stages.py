@@ -199,7 +199,7 @@ class DoubleCraterCycle:
                 path = LoadPath(problem, model.set_platen, stage, model.viscosity,
                                 params.beta / model.geometry.r0**2, events=self.events,
                                 max_snaps=params.max_snaps, load_name="eps",
-                                waves=model.wave_check(terms, run.prefix(stage) + "modes_"))
+                                waves=model.wave_check(problem, terms))
                 if fresh:
                     if not path.solve_at(start, fallbacks=True):
                         raise SteppingError(f"{stage}: no equilibrium at eps = {start:.6g} "
