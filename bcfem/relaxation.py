@@ -52,8 +52,10 @@ def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
 
     Args:
         stiffness: initial c (an elastic modulus over a length squared of the model).
-        rtol: the body counts as at rest once a step moves it less than rtol times
-            the largest step so far; only then is Newton without viscosity tried.
+        rtol: the body counts as at rest once the force out of balance at the end of a
+            step, the viscous c·|Δu|, is below rtol times the largest so far (a step's length
+            alone is small whenever c is large); only then, and every 10th step, is Newton
+            without viscosity tried.
 
     Returns:
         (converged, steps): on failure the states are those of the last relaxed
@@ -63,14 +65,16 @@ def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
     for step in range(1, max_steps + 1):
         viscosity.previous.x.array[:] = problem.ctx.u.x.array
         viscosity.c.value = c
-        if not problem.solve():
+        # a failed pseudo-time step takes more viscosity, not the problem's line-search
+        # fallbacks (which rescue equilibrium solves, at several Newton solves' cost)
+        if not problem.solve(fallbacks=False):
             c *= 4.0  # too large a pseudo-time step: more viscosity
             if c > 1e6 * stiffness:  # not even a tiny step is solvable: give up
                 break
             continue
-        moved = viscosity.increment()
-        largest = max(largest, moved)
-        if moved <= rtol * largest or step % 10 == 0:
+        force = c * viscosity.increment()
+        largest = max(largest, force)
+        if force <= rtol * largest or step % 10 == 0:
             viscosity.c.value = 0.0
             if problem.solve():
                 return True, step
