@@ -227,18 +227,39 @@ class LoadPath:
         return after
 
     def root(self, before: dict, after: float, function: Callable[[], float], xtol: float) -> float:
-        """The load between the :meth:`mark` ``before`` and ``after`` where ``function`` (of the
-        current state) vanishes, to ``xtol`` (:func:`bcfem.roots.bracketed_root`); every
-        evaluation starts from ``before``, so there is no hysteresis between evaluations. The
-        path ends at the root's state."""
+        """The load between the :meth:`mark` ``before`` and the current state at ``after`` where
+        ``function`` (of the current state) vanishes, to ``xtol``
+        (:func:`bcfem.roots.bracketed_root`). Every evaluation goes from ``before`` as the path
+        came, so there is no hysteresis between evaluations. Where that branch ends (a fold
+        between ``before`` and the load), the evaluation continues from the state at ``after``,
+        the branch the path went on to, rather than passing the fold by a relaxation again
+        at every evaluation; only where neither reaches does it relax. The path ends at the
+        root's state."""
+        landed = self.mark(after)
+
         def at(load):
-            start = self.rewind(before)
-            self.advance(start, load, abs(load - start))
+            if not (self._reach(before, load) or self._reach(landed, load)):
+                start = self.rewind(before)
+                self.advance(start, load, abs(load - start))
             return function()
 
         load = bracketed_root(at, after, before["value"], xtol=xtol)
         at(load)
         return load
+
+    def _reach(self, mark: dict, load: float) -> bool:
+        """Whether the path goes from ``mark`` to ``load`` on its branch: the steps of
+        :meth:`advance` up to where it would relax instead; it ends there if so."""
+        start = self.rewind(mark)
+        viscosity, cuts = self.viscosity, self.cuts
+        self.viscosity, self.cuts = None, min(self.cuts, self.cuts_before_relax + 1)
+        try:
+            self.advance(start, load, abs(load - start))
+            return True
+        except SteppingError:
+            return False
+        finally:
+            self.viscosity, self.cuts = viscosity, cuts
 
     def mark(self, value: float) -> dict:
         """The accepted state at load ``value`` with the path's record (snaps, events,

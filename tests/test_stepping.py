@@ -228,6 +228,55 @@ def test_root_locates_a_zero_of_the_state_from_a_mark():
     assert np.all(problem.u == root) and set(starts) == {0.3}
 
 
+class Fold(Quadratic):
+    """Unloading past a snap: branch A (u = load + 1) ends below load 0.25, branch B
+    (u = load) above 0.28; a solve stays on the branch of the state it starts from."""
+
+    failure = "SNES reason -5"
+
+    def solve(self, fallbacks=True):
+        on_a = self.u[0] > 0.9
+        if (on_a and self.load < 0.25) or (not on_a and self.load > 0.28):
+            return False
+        self.u[:] = self.load + (1.0 if on_a else 0.0)
+        return True
+
+
+def test_root_past_a_snap_continues_on_the_branch_fallen_onto(monkeypatch):
+    """f = 0.23 - u vanishes at 0.23 on branch B, which the path fell onto by a relaxation
+    between the mark (0.3, branch A) and 0.2: each evaluation follows A from the mark while
+    A lasts and B from 0.2 below it, without relaxing again, and the path ends on B."""
+    import bcfem.stepping as stepping
+
+    relaxations = []
+
+    def relax(problem, viscosity, stiffness):
+        relaxations.append(problem.load)
+        problem.u[:] = problem.load  # falls onto B
+        return True, 1
+
+    monkeypatch.setattr(stepping, "relax", relax)
+    problem = Fold()
+    problem.load, problem.u[:] = 0.4, 1.4
+    path = LoadPath(problem, lambda v: setattr(problem, "load", v), "unload", viscosity=object(),
+                    check_stability=False)
+    path.start()
+    path.advance(0.4, 0.3, 0.1)
+    mark = path.mark(0.3)
+    path.advance(0.3, 0.2, 0.1)
+    assert path.snaps == 1 and len(relaxations) == 1 and problem.u[0] == 0.2
+    branches = []
+
+    def f():
+        branches.append(round(problem.u[0] - problem.load))  # 1 on A, 0 on B
+        return 0.23 - problem.u[0]
+
+    root = path.root(mark, 0.2, f, xtol=1e-12)
+    assert root == pytest.approx(0.23, abs=1e-11)
+    assert problem.u[0] == root and path.snaps == 1 and len(relaxations) == 1
+    assert set(branches) == {0, 1}  # A above 0.25 (B reaches to 0.28)
+
+
 class Recording(Quadratic):
     """Records the state each solve starts from, and takes ``its`` Newton iterations."""
 
