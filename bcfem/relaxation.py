@@ -50,6 +50,12 @@ def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
     """Pseudo-time steps at the current load from the current (converged) state until
     Newton without viscosity converges.
 
+    A pseudo-time step that fails takes more viscosity (c x 4) rather than the problem's
+    line-search fallbacks, which cost several Newton solves each. Where that gives up (c
+    past 1e6 times ``stiffness``: the body falls too far for a step of Newton to follow it,
+    or its active set cycles at every c), the relaxation starts again from the same state
+    with the fallbacks in every step.
+
     Args:
         stiffness: initial c (an elastic modulus over a length squared of the model).
         rtol: the body counts as at rest once the force out of balance at the end of a
@@ -61,13 +67,22 @@ def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
         (converged, steps): on failure the states are those of the last relaxed
         step, which is *not* an equilibrium; the caller must restore or stop.
     """
+    start = problem.save()
+    for line_searches in (False, True):
+        problem.restore(start)
+        converged, steps = _relax(problem, viscosity, stiffness, rtol, max_steps, line_searches)
+        if converged:
+            break
+    return converged, steps
+
+
+def _relax(problem, viscosity: Viscosity, stiffness: float, rtol: float, max_steps: int,
+           line_searches: bool) -> tuple[bool, int]:
     c, largest = stiffness, 0.0
     for step in range(1, max_steps + 1):
         viscosity.previous.x.array[:] = problem.ctx.u.x.array
         viscosity.c.value = c
-        # a failed pseudo-time step takes more viscosity, not the problem's line-search
-        # fallbacks (which rescue equilibrium solves, at several Newton solves' cost)
-        if not problem.solve(fallbacks=False):
+        if not problem.solve(fallbacks=line_searches):
             c *= 4.0  # too large a pseudo-time step: more viscosity
             if c > 1e6 * stiffness:  # not even a tiny step is solvable: give up
                 break

@@ -220,7 +220,6 @@ def map_timings(commit: str) -> list[str]:
     return L
 
 
-
 def positive_int(text: str) -> int:
     value = int(text)
     if value < 1:

@@ -1,0 +1,74 @@
+"""Pseudo-time relaxation (bcfem.relaxation.relax) on a one-unknown body falling to u = 1:
+more viscosity for a failed step first, the line-search fallbacks only where that gives up."""
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from bcfem.relaxation import relax
+
+
+class Falling:
+    """Pi = k/2 (u - 1)^2 from u = 0; a viscous step solves k (u - 1) + c (u - u_prev) = 0.
+    Newton at c = 0 converges within 0.1 of the equilibrium; ``cycles``: every viscous step
+    fails unless the line-search fallbacks are asked for (an active set that cycles at any c)."""
+
+    k = 1.0
+
+    def __init__(self, viscosity, cycles: bool):
+        self.u = SimpleNamespace(x=SimpleNamespace(array=np.zeros(1)))
+        self.ctx = SimpleNamespace(u=self.u)
+        self.viscosity, self.cycles = viscosity, cycles
+        self.calls = []
+
+    def save(self):
+        return [self.u.x.array.copy()]
+
+    def restore(self, saved):
+        self.u.x.array[:] = saved[0]
+
+    def solve(self, fallbacks=True):
+        c, u = self.viscosity.c.value, self.u.x.array
+        self.calls.append((c, fallbacks))
+        if c == 0:
+            if abs(u[0] - 1) > 0.1:
+                return False
+            u[:] = 1.0
+            return True
+        new = (self.k + c * u[0]) / (self.k + c)
+        if self.cycles and not fallbacks:
+            return False
+        u[:] = new
+        return True
+
+
+def viscosity_of(problem_holder):
+    previous = SimpleNamespace(x=SimpleNamespace(array=np.zeros(1)))
+    return SimpleNamespace(previous=previous, c=SimpleNamespace(value=0.0),
+                           increment=lambda: abs(problem_holder[0].u.x.array[0] - previous.x.array[0]))
+
+
+def falling(cycles: bool) -> tuple[Falling, SimpleNamespace]:
+    holder = []
+    viscosity = viscosity_of(holder)
+    holder.append(Falling(viscosity, cycles))
+    return holder[0], viscosity
+
+
+def test_a_failed_step_takes_more_viscosity_not_line_searches():
+    problem, viscosity = falling(cycles=False)
+    converged, steps = relax(problem, viscosity, stiffness=0.1)
+    assert converged and problem.u.x.array[0] == 1.0
+    assert not [c for c, fallbacks in problem.calls if c > 0 and fallbacks]
+
+
+def test_where_viscosity_alone_gives_up_the_fallbacks_are_tried_from_the_start():
+    """Every step fails without line searches: c grows to its cap (the first ladder gives
+    up), and the relaxation starts again from u = 0 with the fallbacks."""
+    problem, viscosity = falling(cycles=True)
+    converged, _ = relax(problem, viscosity, stiffness=1e-3)
+    assert converged and problem.u.x.array[0] == 1.0
+    first_with = next(i for i, (c, fallbacks) in enumerate(problem.calls) if c > 0 and fallbacks)
+    # the second ladder's first step starts at the initial c again, from the saved state
+    assert problem.calls[first_with][0] == 1e-3
+    assert max(c for c, _ in problem.calls[:first_with]) > 1e6 * 1e-3 / 4
