@@ -237,9 +237,9 @@ class ModeAnalysis:
 
     def scan(self, waves, held=None) -> dict[int, int]:
         """{n: unstable modes} for every n in ``waves``."""
+        if any(n < 1 or int(n) != n for n in waves):
+            raise ValueError(f"the wave numbers must be integers >= 1 (got {list(waves)})")
         waves = sorted({int(n) for n in waves})
-        if any(n < 1 for n in waves):
-            raise ValueError(f"the wave numbers must be integers >= 1 (got {waves})")
         many = [n for n in waves if n >= 2]
         if len(many) < self.INTERPOLATE_FROM:
             return {n: self.unstable(n, held) for n in waves}

@@ -127,6 +127,8 @@ def test_rest_state_is_stable():
     assert block.modes.scan(range(1, 6)) == {n: 0 for n in range(1, 6)}
     with pytest.raises(ValueError, match="wave number"):
         block.modes.unstable(0)
+    with pytest.raises(ValueError, match="wave numbers"):
+        block.modes.scan([1, 2.5])
 
 
 def test_ranks_agree():
