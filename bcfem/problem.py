@@ -101,6 +101,7 @@ class Problem(ConvergedAlgebra):
         self._tangent_ksp = None
         self._bounds: tuple[PETSc.Vec, ...] = ()
         self._owned = []
+        self._kept = {}
         for term in self.discrete:
             term.bind(self)
         #: seconds spent within Newton solves in: form assembly, discrete terms, the direct
@@ -352,6 +353,13 @@ class Problem(ConvergedAlgebra):
             pc.setType("python")
             pc.setPythonContext(ReducedLU(self.snes, solver, self.prefix))
 
+    def kept(self, key: str, make):
+        """The resource ``key`` of this problem, made by ``make()`` on first use and closed
+        with the problem (:meth:`own`): e.g. a factorisation kept along a path."""
+        if key not in self._kept:
+            self._kept[key] = self.own(make())
+        return self._kept[key]
+
     def own(self, resource):
         """Close ``resource`` (anything with a collective ``close()``, such as a
         :class:`~bcfem.modes.ModeAnalysis` of this problem's states) with this problem;
@@ -367,7 +375,7 @@ class Problem(ConvergedAlgebra):
         """
         for resource in self._owned:
             resource.close()
-        self._owned = []
+        self._owned, self._kept = [], {}
         if self._tangent_ksp is not None:
             self._tangent_ksp.destroy()
             self._tangent_ksp = None

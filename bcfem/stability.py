@@ -46,17 +46,52 @@ def _negative_modes(problem, active_tol: float, held: tuple[str, ...]) -> int:
     ``held`` held."""
     rows = problem.held_rows(active_tol)
     jacobian, x = problem.jacobian()
-    A = jacobian.copy()
     if held:
         start, end = x.getOwnershipRange()
         fixed = np.concatenate([problem.global_indices(name) for name in held])
         rows = np.union1d(rows, fixed[(fixed >= start) & (fixed < end)]).astype(PETSc.IntType)
-    A.zeroRowsColumns(rows, diag=1.0)
-    try:
-        negative = negative_eigenvalues(A, problem.prefix + "inertia_")
-    finally:
-        A.destroy()
-    return int(negative)
+    tangent = problem.kept("tangent_inertia", lambda: TangentInertia(problem.prefix + "inertia_"))
+    return tangent.negative(jacobian, rows)
+
+
+class TangentInertia:
+    """Negative eigenvalues of a problem's tangent with some rows and columns held, counted
+    along a path: the tangent's values go into one kept copy, so MUMPS analyses its pattern
+    once and every later count is a numerical factorisation. A discrete term that adds
+    entries (new contacts) changes the pattern, and the copy and its analysis are made
+    afresh. Destroy with :meth:`close` (collective)."""
+
+    def __init__(self, prefix: str):
+        self.prefix = prefix
+        self.matrix: PETSc.Mat | None = None
+        self._entries = -1
+        self._inertia = Inertia(prefix)
+        #: symbolic analyses done
+        self.analyses = 0
+
+    def negative(self, jacobian: PETSc.Mat, rows: np.ndarray) -> int:
+        """Negative eigenvalues of ``jacobian`` with ``rows`` (owned, global) and their
+        columns replaced by those of the identity."""
+        entries = jacobian.getInfo()["nz_used"]
+        if self.matrix is None or entries != self._entries:
+            self._destroy_matrix()
+            self.matrix = jacobian.duplicate(copy=True)
+            self.matrix.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
+            self._entries = entries
+            self.analyses += 1
+        else:
+            jacobian.copy(self.matrix, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+        self.matrix.zeroRowsColumns(rows, diag=1.0)
+        return self._inertia.negative(self.matrix)
+
+    def _destroy_matrix(self) -> None:
+        self._inertia.close()  # its analysis belongs to the matrix
+        if self.matrix is not None:
+            self.matrix.destroy()
+        self.matrix = None
+
+    def close(self) -> None:
+        self._destroy_matrix()
 
 
 def negative_eigenvalues(A: PETSc.Mat, prefix: str) -> int:

@@ -50,3 +50,53 @@ def test_inertia_finds_the_pressure_maximum(v_over_v0, unstable_under_pressure):
     assert unstable_modes(dead) == unstable_under_pressure
     dead.close()
     volume.close()
+
+
+def _tridiagonal(diagonal, coupling, extra=None):
+    """A symmetric tridiagonal matrix on COMM_WORLD; ``extra`` (i, j, value) adds one
+    symmetric pair of entries outside that pattern."""
+    from petsc4py import PETSc
+
+    n = len(diagonal)
+    A = PETSc.Mat().createAIJ((n, n), nnz=(4, 4), comm=MPI.COMM_WORLD)
+    A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+    start, end = A.getOwnershipRange()
+    for i in range(start, end):
+        A.setValue(i, i, diagonal[i])
+        for j in (i - 1, i + 1):
+            if 0 <= j < n:
+                A.setValue(i, j, coupling)
+        if extra is not None and i in extra[:2]:
+            A.setValue(i, extra[1] if i == extra[0] else extra[0], extra[2])
+    A.assemble()
+    return A
+
+
+def test_kept_inertia_matches_a_fresh_count_and_analyses_a_new_pattern_again():
+    """Counts with the kept copy and analysis equal those of a fresh factorisation as the
+    values change; a held row drops out of the count; an entry outside the pattern (a new
+    contact) makes the copy and the analysis afresh."""
+    import numpy as np
+
+    from bcfem.stability import TangentInertia, negative_eigenvalues
+
+    signs = np.array([1.0, -2.0, 3.0, -4.0, 5.0, 6.0, -7.0, 8.0])
+    kept = TangentInertia("test_kept_inertia_")
+    try:
+        for k, diagonal in enumerate([signs, -signs, np.abs(signs), signs]):
+            A = _tridiagonal(diagonal, 0.01)
+            fresh = A.copy()
+            rows = np.arange(*A.getOwnershipRange(), dtype=np.int32)
+            held = rows[np.isin(rows, [1])]  # unknown 1 (negative in signs) held
+            fresh.zeroRowsColumns(held, diag=1.0)
+            expected = int(np.sum(np.delete(diagonal, 1) < 0))
+            assert kept.negative(A, held) == negative_eigenvalues(fresh, "test_fresh_") == expected
+            assert kept.analyses == 1, f"values {k}: one analysis for one pattern"
+            A.destroy()
+            fresh.destroy()
+        A = _tridiagonal(signs, 0.01, extra=(0, 5, 0.02))
+        assert kept.negative(A, np.zeros(0, dtype=np.int32)) == int(np.sum(signs < 0))
+        assert kept.analyses == 2
+        A.destroy()
+    finally:
+        kept.close()
