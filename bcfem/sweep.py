@@ -4,7 +4,8 @@ Each rank solves points on its own communicator (``comm.Split`` by rank, so
 every point is a serial solve and the map does not depend on the number of
 ranks). Points are handed out as the ranks become free: every rank walks the
 points in order and takes the first one no rank has claimed (an exclusively
-created file), so one slow point does not leave the other ranks idle.
+created file), so one slow point does not leave the other ranks idle; :func:`run_pool`
+does so across several sweeps.
 
 Every finished point is written at once to ``points/<key>.json`` (atomically),
 so a rerun skips it; a failed point is recorded with its reason and the solver
@@ -124,19 +125,44 @@ def run(points, solve_point, out: Path, comm, retry_failed: bool = False) -> lis
         retry_failed: solve again the points recorded as failed (else they are kept as
             they are: a failure is a result, and re-solving it can take long).
     """
+    return run_pool([(points, solve_point, out)], comm, retry_failed)[0]
+
+
+def run_pool(sweeps, comm, retry_failed: bool = False) -> list[list[dict]]:
+    """Several sweeps, ``[(points, solve_point, out), ...]``, as one pool of points: a rank
+    that finds no unclaimed point left in one sweep goes on to the next, rather than waiting
+    for the slowest point of each. Each sweep's ``sweep.csv`` and ``timing.json`` are written
+    once all are solved; a pooled sweep's ``wall_time_s`` is the pool's, and its own cost is
+    ``point_solve_time_s``, the sum of its points' solve times. Returns each sweep's rows
+    (see :func:`run`)."""
     t0 = time.perf_counter()
-    out = Path(out)
-    point_dir = out / "points"
+    outs = [Path(out) for _, _, out in sweeps]
     if comm.rank == 0:
-        point_dir.mkdir(parents=True, exist_ok=True)
-    comm.barrier()
+        for out in outs:
+            (out / "points").mkdir(parents=True, exist_ok=True)
     # this run's claims (an interrupted run leaves its directory behind, ignored by the next)
-    claims = point_dir / f".claims-{comm.bcast(uuid.uuid4().hex[:12] if comm.rank == 0 else None)}"
+    tag = comm.bcast(uuid.uuid4().hex[:12] if comm.rank == 0 else None)
+    claims = [out / "points" / f".claims-{tag}" for out in outs]
     if comm.rank == 0:
-        claims.mkdir()
+        for directory in claims:
+            directory.mkdir()
     comm.barrier()
     own = comm.Split(color=comm.rank, key=0)
+    counts = [_solve_claimed(points, solve_point, out / "points", directory, own, retry_failed)
+              for (points, solve_point, _), out, directory in zip(sweeps, outs, claims)]
+    own.Free()
+    counts = [(comm.allreduce(done), comm.allreduce(skipped), comm.allreduce(seconds))
+              for done, skipped, seconds in counts]
+    comm.barrier()
+    wall = time.perf_counter() - t0
+    return [_gather(points, out, directory, comm, count, wall, len(sweeps))
+            for (points, _, _), out, directory, count in zip(sweeps, outs, claims, counts)]
+
+
+def _solve_claimed(points, solve_point, point_dir: Path, claims: Path, own, retry_failed: bool):
+    """The points of one sweep this rank claims first: (solved, reused, their solve seconds)."""
     done = skipped = 0
+    seconds = 0.0
     for index, (values, params) in enumerate(points):
         key = point_key(values, params)
         try:
@@ -160,28 +186,31 @@ def run(points, solve_point, out: Path, comm, retry_failed: bool = False) -> lis
         finally:
             logger.setLevel(level)
         row["solve_time_s"] = time.perf_counter() - start  # kept with the point: survives an interrupted run
+        seconds += row["solve_time_s"]
         io.write_json(path, row, own)
         done += 1
         logger.info(f"sweep: point {index + 1}/{len(points)} {point_key(values)}: {row['status']}")
-    own.Free()
-    total_done = comm.allreduce(done)
-    total_skipped = comm.allreduce(skipped)
-    comm.barrier()
+    return done, skipped, seconds
+
+
+def _gather(points, out: Path, claims: Path, comm, count, wall: float, pooled: int) -> list[dict]:
+    """Rank 0 writes one sweep's ``sweep.csv`` (and ``timing.json`` if it solved anything);
+    every rank gets its rows."""
+    total_done, total_skipped, seconds = count
     rows = []
     if comm.rank == 0:
         shutil.rmtree(claims)
         for values, params in points:
-            rows.append(json.loads((point_dir / f"{point_key(values, params)}.json").read_text()))
+            rows.append(json.loads((out / "points" / f"{point_key(values, params)}.json").read_text()))
         # a point's nested records (dicts) stay in its JSON file, out of the CSV
         columns = sorted({k for r in rows for k, v in r.items() if not isinstance(v, dict)} - RECORD_ONLY,
                          key=lambda k: (k in ("status", "reason"), k))
         io.write_csv(out / "sweep.csv", rows, comm, columns)
         if total_done:  # a rerun that solved nothing keeps the timing of the run that did
-            wall = time.perf_counter() - t0
             io.write_json(out / "timing.json", {
                 "solved": total_done, "reused": total_skipped, "failed": sum(r["status"] != "ok" for r in rows),
-                "ranks": comm.size, "wall_time_s": wall,
-                "core_seconds_per_solved_point": wall * comm.size / total_done},
+                "ranks": comm.size, "wall_time_s": wall, "point_solve_time_s": seconds, "pooled_sweeps": pooled,
+                "core_seconds_per_solved_point": (wall * comm.size if pooled == 1 else seconds) / total_done},
                 comm)
     logger.info(f"sweep: {total_done} points solved, {total_skipped} reused, "
                 f"{sum(r['status'] != 'ok' for r in rows)} failed -> {out / 'sweep.csv'}")

@@ -135,28 +135,32 @@ def command(name: str) -> str:
 # %% [markdown]
 # ## Solve the maps
 #
-# `bcfem.sweep.run` spreads each map's points over the ranks (each point a
-# serial cycle, `crater.sweep_point`) and records a failed point with its
-# reason.
+# `bcfem.sweep.run_pool` spreads the points of all maps over the ranks as one pool
+# (each point a serial cycle, `crater.sweep_point`), so no rank waits for the last
+# point of one map, and records a failed point with its reason.
 
 # %%
-results, timing = {}, {}
+results, timing, sweeps = {}, {}, []
 for name, (base, axes) in MAPS.items():
     if not full:
         if name not in QUICK:
             continue
         axes = QUICK[name]
-    t0 = time.perf_counter()
     points = sweep.grid_points(base, [(k, np.array(v)) for k, v in axes.items()])
-    rows = sweep.run(points, crater.sweep_point, args.out / "sweeps" / name, comm)
+    sweeps.append((name, axes, (points, crater.sweep_point, args.out / "sweeps" / name)))
+t0 = time.perf_counter()
+pooled = sweep.run_pool([job for _, _, job in sweeps], comm)
+timing["maps"] = {"wall_time_s": time.perf_counter() - t0, "ranks": comm.size}
+report(f"maps: {sum(len(rows) for rows in pooled)} points in {timing['maps']['wall_time_s']:.0f} s on "
+       f"{comm.size} rank(s)")
+for (name, axes, _), rows in zip(sweeps, pooled):
     results[name] = rows
-    # this run's wall time is near zero when the points come from the cache; the points'
-    # own solve times (serial, one rank each) are the cost of the map
-    timing[name] = {"points": len(rows), "wall_time_s": time.perf_counter() - t0, "ranks": comm.size,
-                    "point_solve_time_s": sum(r.get("solve_time_s", 0.0) for r in rows)}
+    # the points' own solve times (serial, one rank each) are the cost of the map; a map
+    # whose points come from the cache costs this run nothing
+    timing[name] = {"points": len(rows), "point_solve_time_s": sum(r.get("solve_time_s", 0.0) for r in rows)}
     failed = [r for r in rows if r["status"] != "ok"]
-    report(f"{name}: {len(rows)} points, {len(failed)} failed ({timing[name]['wall_time_s']:.0f} s; "
-           f"points' own solve times {timing[name]['point_solve_time_s']:.0f} s)")
+    report(f"{name}: {len(rows)} points, {len(failed)} failed (points' own solve times "
+           f"{timing[name]['point_solve_time_s']:.0f} s)")
     for r in failed:
         report(f"  FAILED {sweep.point_key({k: r[k] for k in axes})}: {r['reason']}")
 

@@ -131,6 +131,51 @@ def test_points_go_to_the_rank_that_is_free(tmp_path):
     assert ranks[0] not in ranks[1:] and len(set(ranks[1:])) == 1, ranks
 
 
+SLOW_LAST_THEN_ANOTHER = """
+import json, sys, time
+from pathlib import Path
+from mpi4py import MPI
+from bcfem import sweep
+from bcfem.scenes import blister_rigid
+
+def solve(params, comm):
+    time.sleep(3.0 if params.alpha == 2 else 0.1)  # the first sweep's last point is slow
+    return {"rank": MPI.COMM_WORLD.rank}
+
+out = Path(sys.argv[1])
+grid = lambda values: sweep.grid_points(blister_rigid.Params(), [("alpha", values)])
+first, second = sweep.run_pool([(grid([0.0, 1.0, 2.0]), solve, out / "first"),
+                                (grid([3.0, 4.0, 5.0, 6.0]), solve, out / "second")], MPI.COMM_WORLD)
+if MPI.COMM_WORLD.rank == 0:
+    print(json.dumps([[r["rank"] for r in first], [r["rank"] for r in second]]))
+"""
+
+
+def test_a_pool_of_sweeps_keeps_every_rank_busy(tmp_path):
+    """On 2 ranks, while one rank solves the slow last point of the first sweep, the other
+    goes on to the second and solves all of it (separate runs would wait for the slow
+    point and then share the second sweep); each sweep gets its own CSV and timing."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = tmp_path / "pool.py"
+    script.write_text(SLOW_LAST_THEN_ANOTHER)
+    mpirun = Path(sys.executable).parent / "mpirun"
+    res = subprocess.run([str(mpirun), "-n", "2", sys.executable, str(script), str(tmp_path / "out")],
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr
+    first, second = json.loads(res.stdout.strip().splitlines()[-1])
+    slow_rank = first[2]
+    assert slow_rank not in second, (first, second)
+    for name, points in (("first", 3), ("second", 4)):
+        timing = json.loads((tmp_path / "out" / name / "timing.json").read_text())
+        assert timing["solved"] == points and timing["pooled_sweeps"] == 2 and timing["ranks"] == 2
+        assert len(sweep_rows(tmp_path / "out" / name)) == points
+    assert json.loads((tmp_path / "out" / "first" / "timing.json").read_text())["point_solve_time_s"] >= 3.0
+    assert not list((tmp_path / "out").glob("*/points/.claims-*"))
+
+
 def test_maps_of_failed_points_and_one_value_axes(tmp_path):
     """A sweep whose points all failed still draws its maps (blank panels), and an axis
     with one value is a constant: the CLI then draws curves over the other axis."""
