@@ -113,21 +113,27 @@ if MPI.COMM_WORLD.rank == 0:
 """
 
 
-def test_points_go_to_the_rank_that_is_free(tmp_path):
-    """On 2 ranks, the rank that took a slow first point solves nothing else: the other
-    rank takes every later point as it becomes free (a fixed round-robin would have given
-    the slow rank every other point)."""
+def _on_two_ranks(script_text: str, tmp_path):
+    """Run ``script_text`` (argument: an output directory, ``tmp_path/out``) on 2 ranks; the
+    JSON of its last line of output."""
     import subprocess
     import sys
     from pathlib import Path
 
-    script = tmp_path / "slow_first.py"
-    script.write_text(SLOW_FIRST)
+    script = tmp_path / "script.py"
+    script.write_text(script_text)
     mpirun = Path(sys.executable).parent / "mpirun"
     res = subprocess.run([str(mpirun), "-n", "2", sys.executable, str(script), str(tmp_path / "out")],
                          capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stderr
-    ranks = json.loads(res.stdout.strip().splitlines()[-1])
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+def test_points_go_to_the_rank_that_is_free(tmp_path):
+    """On 2 ranks, the rank that took a slow first point solves nothing else: the other
+    rank takes every later point as it becomes free (a fixed round-robin would have given
+    the slow rank every other point)."""
+    ranks = _on_two_ranks(SLOW_FIRST, tmp_path)
     assert ranks[0] not in ranks[1:] and len(set(ranks[1:])) == 1, ranks
 
 
@@ -155,17 +161,7 @@ def test_a_pool_of_sweeps_keeps_every_rank_busy(tmp_path):
     """On 2 ranks, while one rank solves the slow last point of the first sweep, the other
     goes on to the second and solves all of it (separate runs would wait for the slow
     point and then share the second sweep); each sweep gets its own CSV and timing."""
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    script = tmp_path / "pool.py"
-    script.write_text(SLOW_LAST_THEN_ANOTHER)
-    mpirun = Path(sys.executable).parent / "mpirun"
-    res = subprocess.run([str(mpirun), "-n", "2", sys.executable, str(script), str(tmp_path / "out")],
-                         capture_output=True, text=True, timeout=300)
-    assert res.returncode == 0, res.stderr
-    first, second = json.loads(res.stdout.strip().splitlines()[-1])
+    first, second = _on_two_ranks(SLOW_LAST_THEN_ANOTHER, tmp_path)
     slow_rank = first[2]
     assert slow_rank not in second, (first, second)
     for name, points in (("first", 3), ("second", 4)):
