@@ -15,6 +15,8 @@ from petsc4py import PETSc
 
 import numpy as np
 
+from bcfem.kept_copy import KeptCopy
+
 
 class ReducedLU:
     """A petsc4py ``python`` PC for the KSP of a ``vinewtonrsls`` SNES (see the module).
@@ -33,8 +35,7 @@ class ReducedLU:
         self.ksp.setType("preonly")
         self.ksp.getPC().setType("lu")
         self.ksp.getPC().setFactorSolverType(solver_type)
-        self.matrix: PETSc.Mat | None = None
-        self._entries = -1
+        self._copy = KeptCopy()
         self._inactive: np.ndarray | None = None
         self._held: np.ndarray | None = None
         self._scatter: PETSc.Scatter | None = None
@@ -43,17 +44,10 @@ class ReducedLU:
         self.analyses = 0
 
     def setUp(self, pc: PETSc.PC) -> None:
-        jacobian = self.snes.getJacobian()[0]
-        entries = jacobian.getInfo()["nz_used"]  # a discrete term may add entries
-        if self.matrix is None or entries != self._entries:
-            self._destroy_matrix()
-            self.matrix = jacobian.duplicate(copy=True)
-            self.matrix.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
+        if self._copy.update(self.snes.getJacobian()[0]):  # a discrete term added entries
+            self._destroy_vectors()
             self._rhs, self._solution = self.matrix.createVecs()
-            self._entries = entries
             self.analyses += 1
-        else:
-            jacobian.copy(self.matrix, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
         inactive = self.snes.getVIInactiveSet().getIndices()
         changed = self._inactive is None or not np.array_equal(inactive, self._inactive)
         # the scatter is rebuilt collectively: on every rank when the set changed on any
@@ -81,15 +75,21 @@ class ReducedLU:
     def reset(self, pc: PETSc.PC) -> None:
         """vinewtonrsls resets its KSP when the inactive set changes: the analysis stays."""
 
-    def _destroy_matrix(self) -> None:
-        for obj in (self.matrix, self._rhs, self._solution, self._scatter):
+    @property
+    def matrix(self) -> PETSc.Mat | None:
+        """The kept copy of the Jacobian that is factorised."""
+        return self._copy.matrix
+
+    def _destroy_vectors(self) -> None:
+        for obj in (self._rhs, self._solution, self._scatter):
             if obj is not None:
                 obj.destroy()
-        self.matrix = self._rhs = self._solution = self._scatter = None
+        self._rhs = self._solution = self._scatter = None
 
     def destroy(self, pc: PETSc.PC | None = None) -> None:
         """Free the factorisation and drop the SNES: the SNES owns this context through its
         PC, so holding it on would keep both alive (called by :meth:`Problem.close`)."""
-        self._destroy_matrix()
+        self._destroy_vectors()
+        self._copy.destroy()
         self.ksp.destroy()
         self.snes = None

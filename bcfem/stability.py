@@ -21,6 +21,8 @@ from petsc4py import PETSc
 
 import numpy as np
 
+from bcfem.kept_copy import KeptCopy
+
 
 def unstable_modes(problem, multipliers: list[str] | None = None, active_tol: float = 1e-9,
                    held: tuple[str, ...] = ()) -> int:
@@ -63,8 +65,7 @@ class TangentInertia:
 
     def __init__(self, prefix: str):
         self.prefix = prefix
-        self.matrix: PETSc.Mat | None = None
-        self._entries = -1
+        self._copy = KeptCopy()
         self._inertia = Inertia(prefix)
         #: symbolic analyses done
         self.analyses = 0
@@ -72,26 +73,15 @@ class TangentInertia:
     def negative(self, jacobian: PETSc.Mat, rows: np.ndarray) -> int:
         """Negative eigenvalues of ``jacobian`` with ``rows`` (owned, global) and their
         columns replaced by those of the identity."""
-        entries = jacobian.getInfo()["nz_used"]
-        if self.matrix is None or entries != self._entries:
-            self._destroy_matrix()
-            self.matrix = jacobian.duplicate(copy=True)
-            self.matrix.setOption(PETSc.Mat.Option.KEEP_NONZERO_PATTERN, True)
-            self._entries = entries
+        if self._copy.update(jacobian):
+            self._inertia.close()  # its analysis belonged to the matrix before
             self.analyses += 1
-        else:
-            jacobian.copy(self.matrix, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
-        self.matrix.zeroRowsColumns(rows, diag=1.0)
-        return self._inertia.negative(self.matrix)
-
-    def _destroy_matrix(self) -> None:
-        self._inertia.close()  # its analysis belongs to the matrix
-        if self.matrix is not None:
-            self.matrix.destroy()
-        self.matrix = None
+        self._copy.matrix.zeroRowsColumns(rows, diag=1.0)
+        return self._inertia.negative(self._copy.matrix)
 
     def close(self) -> None:
-        self._destroy_matrix()
+        self._inertia.close()
+        self._copy.destroy()
 
 
 def negative_eigenvalues(A: PETSc.Mat, prefix: str) -> int:

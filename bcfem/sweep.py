@@ -137,6 +137,8 @@ def run_pool(sweeps, comm, retry_failed: bool = False) -> list[list[dict]]:
     (see :func:`run`)."""
     t0 = time.perf_counter()
     outs = [Path(out) for _, _, out in sweeps]
+    if len({out.resolve() for out in outs}) != len(outs):  # their claims would collide
+        raise ValueError(f"run_pool: each sweep needs its own output directory (got {', '.join(map(str, outs))})")
     if comm.rank == 0:
         for out in outs:
             (out / "points").mkdir(parents=True, exist_ok=True)

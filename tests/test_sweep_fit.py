@@ -172,6 +172,17 @@ def test_a_pool_of_sweeps_keeps_every_rank_busy(tmp_path):
     assert not list((tmp_path / "out").glob("*/points/.claims-*"))
 
 
+def test_a_pool_refuses_two_sweeps_in_one_directory(tmp_path):
+    """Two sweeps writing to one directory would share their claims: refused before anything
+    is solved or written."""
+    points = sweep.grid_points(blister_rigid.Params(), [("alpha", [0.0])])
+    solved = []
+    with pytest.raises(ValueError, match="its own output directory"):
+        sweep.run_pool([(points, lambda p, c: solved.append(p) or {}, tmp_path / "a"),
+                        (points, lambda p, c: solved.append(p) or {}, tmp_path / "b" / ".." / "a")], MPI.COMM_WORLD)
+    assert not solved and not (tmp_path / "a").exists()
+
+
 def test_maps_of_failed_points_and_one_value_axes(tmp_path):
     """A sweep whose points all failed still draws its maps (blank panels), and an axis
     with one value is a constant: the CLI then draws curves over the other axis."""
