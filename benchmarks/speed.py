@@ -207,7 +207,7 @@ def map_timings(commit: str) -> list[str]:
          f"Before ({commit}) the maps ran one after another: core-s = wall x ranks.", "",
          f"| map | points | failed | core-s | before ({commit}): core-s (ranks) |",
          "|---|---|---|---|---|"]
-    wall, core, core_old = 0.0, 0.0, 0.0
+    wall, core, core_old, ranks = 0.0, 0.0, 0.0, set()
     for path in sorted((ROOT / MAPS).glob("*/timing.json")):
         now = json.loads(path.read_text())
         old = subprocess.run(["git", "show", f"{commit}:{MAPS / path.parent.name / 'timing.json'}"], cwd=ROOT,
@@ -217,11 +217,13 @@ def map_timings(commit: str) -> list[str]:
         core_now = now["point_solve_time_s"] if pooled else now["wall_time_s"] * now["ranks"]
         wall = max(wall, now["wall_time_s"]) if pooled else wall + now["wall_time_s"]
         core += core_now
+        ranks.add(now["ranks"])
         core_old += old["wall_time_s"] * old["ranks"] if old else float("nan")
         L.append(f"| {path.parent.name} | {now['solved']} | {now['failed']} | {core_now:.0f} | "
                  f"{old['wall_time_s'] * old['ranks'] if old else float('nan'):.0f} ({old['ranks'] if old else ''}) |")
     L.append(f"| **all** | | | {core:.0f} | {core_old:.0f} |")
-    L += ["", f"Wall time of the maps: **{wall:.0f} s ({wall / 60:.1f} min)** on 2 ranks."]
+    L += ["", f"Wall time of the maps: **{wall:.0f} s ({wall / 60:.1f} min)** on "
+          f"{' or '.join(map(str, sorted(ranks)))} ranks."]
     return L
 
 
