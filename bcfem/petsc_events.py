@@ -9,7 +9,7 @@ from __future__ import annotations
 from petsc4py import PETSc
 
 #: PETSc events of each part (MUMPS and PETSc's own factorisations log the same ones)
-EVENTS = {"factorisation": ("MatLUFactorSym", "MatLUFactorNum", "MatCholFactorSym", "MatCholFactorNum"),
+EVENTS = {"factorisation": ("MatLUFactorSym", "MatLUFactorNum", "MatCholFctrSym", "MatCholFctrNum"),
           "linear_solve": ("MatSolve",)}
 
 _events: dict | None = None

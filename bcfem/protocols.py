@@ -107,6 +107,12 @@ class DiscreteTerm(Protocol):
         (free rows and columns only), and assemble ``A``. Collective."""
         ...
 
+    @property
+    def symmetric_tangent(self) -> bool:
+        """True when :meth:`add_jacobian` adds a symmetric matrix (the Hessian of an energy),
+        so that the problem may factorise its tangent as LDL^T. Default: False."""
+        return False
+
     def begin_solve(self) -> None:
         """Called before each Newton solve, e.g. to freeze a choice that must not
         change between iterates. Default: nothing."""

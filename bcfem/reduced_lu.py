@@ -26,14 +26,16 @@ class ReducedLU:
         solver_type: the factorisation package (e.g. ``mumps``).
         prefix: options prefix of the inner factorisation (the problem's, so that the
             user's ``-<prefix>mat_mumps_*`` options apply to it).
+        factor: ``lu``, or ``cholesky`` (LDL^T, for MUMPS a symmetric indefinite one) when the
+            Jacobian is symmetric: the identity rows and columns keep the symmetry.
     """
 
-    def __init__(self, snes: PETSc.SNES, solver_type: str, prefix: str):
+    def __init__(self, snes: PETSc.SNES, solver_type: str, prefix: str, factor: str = "lu"):
         self.snes = snes
         self.ksp = PETSc.KSP().create(snes.comm)
         self.ksp.setOptionsPrefix(prefix)
         self.ksp.setType("preonly")
-        self.ksp.getPC().setType("lu")
+        self.ksp.getPC().setType(factor)
         self.ksp.getPC().setFactorSolverType(solver_type)
         self._copy = KeptCopy()
         self._inactive: np.ndarray | None = None

@@ -76,6 +76,7 @@ class WallSelfContact:
     """
 
     is_discrete = True
+    symmetric_tangent = True  # the Hessian of the penalty energy
     name = "self_contact"
     #: (node, segment) pairs held together whatever the gap's sign (:meth:`bond`)
     bonded = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
@@ -353,9 +354,11 @@ class WallSelfContact:
         P, S, g = self.pairs(x)
         self.active = self.comm.allreduce(len(P), op=MPI.SUM)
         nodes = np.stack([P, self.segments[S, 0], self.segments[S, 1]], axis=1)  # (n, 3)
-        grad, hess = gap_derivatives_batch(x[P], x[nodes[:, 1]], x[nodes[:, 2]])
         rows = self.rows[nodes].reshape(len(P), 6)
         free = ~self.fixed[nodes].reshape(len(P), 6)
+        if len(P) == 0:  # most evaluations: the derivatives' set-up alone would cost more
+            return rows, free, np.zeros((0, 6)), np.zeros((0, 6, 6)) if with_hessian else None
+        grad, hess = gap_derivatives_batch(x[P], x[nodes[:, 1]], x[nodes[:, 2]])
         k = float(self.scale.value) * self._stiffness(P, S)
         force = (k * g)[:, None] * grad
         tangent = k[:, None, None] * (np.einsum("ni,nj->nij", grad, grad) + g[:, None, None] * hess) \

@@ -67,15 +67,31 @@ class Obstacle:
         return (0.5 * (ctx.u - (x[0] - 0.5)) ** 2 + 0.5 * ctx.u**4) * dx
 
 
-def solve_obstacle(snes_type):
+class NothingDiscrete:
+    """A discrete term that adds nothing, and does not say its tangent is symmetric."""
+    is_discrete = True
+
+    def bind(self, problem):
+        pass
+
+    def add_residual(self, b):
+        pass
+
+    def add_jacobian(self, A):
+        A.assemble()
+
+
+def solve_obstacle(snes_type, extra=(), factor=None):
     msh = mesh.create_unit_interval(MPI.COMM_WORLD, 8)
     V = fem.functionspace(msh, ("Lagrange", 1))
     ctx = Context(fem.Function(V))
-    with Problem(ctx, [Obstacle()], [], "bcfem_test_vi_", {"snes_type": snes_type}) as problem:
+    with Problem(ctx, [Obstacle(), *extra], [], "bcfem_test_vi_", {"snes_type": snes_type}) as problem:
         lower, upper = fem.Function(V), fem.Function(V)
         upper.x.array[:] = 1e20
         problem.set_bounds([lower], [upper])
         ok = problem.solve()
+        if factor is not None:
+            factor.append(problem.snes.getKSP().getPC().getPythonContext().ksp.getPC().getType())
         x = V.tabulate_dof_coordinates()[:, 0]
         return ok, problem.iterations, x, ctx.u.x.array.copy()
 
@@ -87,6 +103,17 @@ def test_the_obstacle_problem_is_solved_with_its_contact_set():
     # u + 2u^3 = x - 1/2 where u > 0
     free = x > 0.5
     assert np.all(u[free] > 0)
+    assert np.allclose(u[free] + 2 * u[free] ** 3, x[free] - 0.5, atol=1e-9)
+
+
+@pytest.mark.parametrize("extra, expected", [((), "cholesky"), ((NothingDiscrete(),), "lu")])
+def test_a_symmetric_tangent_is_factorised_as_ldlt(extra, expected):
+    # every term an energy: LDL^T; a discrete term that does not say so: LU. Same solution.
+    factor = []
+    ok, _, x, u = solve_obstacle("vinewtonrsls", extra, factor)
+    assert ok and factor == [expected]
+    free = x > 0.5
+    assert np.all(u[~free] == 0.0)
     assert np.allclose(u[free] + 2 * u[free] ** 3, x[free] - 0.5, atol=1e-9)
 
 

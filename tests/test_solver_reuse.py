@@ -89,7 +89,7 @@ def test_a_converging_solve_is_left_alone():
     assert value == pytest.approx(np.sqrt(2.0), rel=1e-14)
 
 
-def obstacle_snes(comm, n, reduced: bool, loaded: float = 1.0):
+def obstacle_snes(comm, n, reduced: bool, loaded: float = 1.0, factor: str = "lu"):
     """A discrete membrane -u'' + u^3 = -g (u = 0 at both ends) over the obstacle
     u >= -0.3, solved by vinewtonrsls; g = 10 on the first ``loaded`` part of the span."""
     h = 1.0 / (n + 1)
@@ -129,7 +129,7 @@ def obstacle_snes(comm, n, reduced: bool, loaded: float = 1.0):
     snes.setVariableBounds(lower, upper)
     context = None
     if reduced:
-        context = ReducedLU(snes, "mumps", "reduced_test_")
+        context = ReducedLU(snes, "mumps", "reduced_test_", factor)
         pc.setType("python")
         pc.setPythonContext(context)
     return snes, x, context
@@ -137,11 +137,12 @@ def obstacle_snes(comm, n, reduced: bool, loaded: float = 1.0):
 
 @pytest.mark.mpi
 @pytest.mark.parametrize("loaded", [1.0, 0.3])  # 0.3: the contact set changes on rank 0's rows only
-def test_the_reduced_step_on_the_full_sparsity_gives_vinewtonrsls_own_iterates(loaded):
+@pytest.mark.parametrize("factor", ["lu", "cholesky"])  # this Jacobian is symmetric
+def test_the_reduced_step_on_the_full_sparsity_gives_vinewtonrsls_own_iterates(loaded, factor):
     comm = MPI.COMM_WORLD
     solutions, histories = [], []
     for reduced in (False, True):
-        snes, x, context = obstacle_snes(comm, 200, reduced, loaded)
+        snes, x, context = obstacle_snes(comm, 200, reduced, loaded, factor)
         snes.setConvergenceHistory()
         x.set(0.0)
         snes.solve(None, x)
@@ -151,6 +152,7 @@ def test_the_reduced_step_on_the_full_sparsity_gives_vinewtonrsls_own_iterates(l
         if reduced:
             # the active set changed from iteration to iteration, the analysis was done once
             assert snes.getIterationNumber() >= 2 and context.analyses == 1
+            assert context.ksp.getPC().getType() == factor
     held = comm.allreduce(int(np.sum(solutions[1].array_r <= -0.3 + 1e-12)))
     assert 0 < held < 200  # the obstacle is touched, not everywhere
     assert len(histories[0]) == len(histories[1])
