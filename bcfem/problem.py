@@ -23,6 +23,7 @@ from bcfem.algebra import ConvergedAlgebra
 from bcfem.newton_cycles import RepeatedIterates
 from bcfem.protocols import declared_multipliers
 from bcfem.reduced_lu import ReducedLU
+from bcfem.unlifted import UnliftedResidual
 
 #: the parts of :attr:`Problem.timings`
 TIMED = ("assembly", "discrete_terms", "factorisation", "linear_solve", "newton", "stability")
@@ -115,6 +116,8 @@ class Problem(ConvergedAlgebra):
         self._timing_outside = 0
         #: Newton solves that did not converge (each is a cut-back or a retry)
         self.failed_solves = 0
+        #: residuals assembled with dolfinx's lifting (x off its Dirichlet values)
+        self.liftings = 0
         self._first_norm = None  # the residual norm at the start of a solve (divergence test)
         self._wrap_assembly()
         #: ends a solve whose iterates cycle (it would fail at snes_max_it)
@@ -132,9 +135,16 @@ class Problem(ConvergedAlgebra):
                 timings["assembly"] += t1 - t0
                 timings["discrete_terms"] += perf_counter() - t1
 
+        unlifted = UnliftedResidual(b, **kargs) if b.getAttr("_blocks") is not None else None
+        self._unlifted = unlifted
+
         def function(snes, x, f):
             t0 = perf_counter()
-            residual(snes, x, f, *args, **kargs)
+            if unlifted is None or unlifted.lifting_needed(x):
+                residual(snes, x, f, *args, **kargs)
+                self.liftings += 1
+            else:
+                unlifted(x, f)
             t1 = perf_counter()
             for term in self.discrete:
                 term.add_residual(f)
@@ -387,6 +397,9 @@ class Problem(ConvergedAlgebra):
             self._tangent_ksp = None
         if self._nlp is not None and self.snes.getKSP().getPC().getType() == "python":
             self.snes.getKSP().getPC().getPythonContext().destroy()  # ReducedLU (set_bounds)
+        if self._unlifted is not None:
+            self._unlifted.destroy()
+            self._unlifted = None
         for vec in self._bounds:
             vec.destroy()
         self._bounds = ()
@@ -399,3 +412,4 @@ class Problem(ConvergedAlgebra):
 
     def __exit__(self, *exc):
         self.close()
+
