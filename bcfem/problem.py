@@ -22,8 +22,8 @@ from bcfem import options, petsc_events
 from bcfem.algebra import ConvergedAlgebra
 from bcfem.newton_cycles import RepeatedIterates
 from bcfem.protocols import declared_multipliers
+from bcfem.assembly import Assembly
 from bcfem.reduced_lu import ReducedLU
-from bcfem.unlifted import UnliftedResidual
 
 #: the parts of :attr:`Problem.timings`
 TIMED = ("assembly", "discrete_terms", "factorisation", "linear_solve", "newton", "stability")
@@ -116,51 +116,11 @@ class Problem(ConvergedAlgebra):
         self._timing_outside = 0
         #: Newton solves that did not converge (each is a cut-back or a retry)
         self.failed_solves = 0
-        #: residuals assembled with dolfinx's lifting (x off its Dirichlet values)
-        self.liftings = 0
         self._first_norm = None  # the residual norm at the start of a solve (divergence test)
-        self._wrap_assembly()
+        #: the SNES's residual and Jacobian callbacks
+        self.assembly = Assembly(self, residuals)
         #: ends a solve whose iterates cycle (it would fail at snes_max_it)
         self.cycles = RepeatedIterates(self.snes, self.comm)
-
-    def _wrap_assembly(self) -> None:
-        """Wrap dolfinx's assembly callbacks: the discrete terms add to what the forms give,
-        and both are timed."""
-        b, (residual, args, kargs) = self.snes.getFunction()
-        A, P, (jacobian, jargs, jkargs) = self.snes.getJacobian()
-        timings = self.timings
-
-        def count(t0, t1):
-            if not self._timing_outside:
-                timings["assembly"] += t1 - t0
-                timings["discrete_terms"] += perf_counter() - t1
-
-        unlifted = UnliftedResidual(b, **kargs) if b.getAttr("_blocks") is not None else None
-        self._unlifted = unlifted
-
-        def function(snes, x, f):
-            t0 = perf_counter()
-            if unlifted is None or unlifted.lifting_needed(x):
-                residual(snes, x, f, *args, **kargs)
-                self.liftings += 1
-            else:
-                unlifted(x, f)
-            t1 = perf_counter()
-            for term in self.discrete:
-                term.add_residual(f)
-            count(t0, t1)
-            self._guard_divergence(f)
-
-        def tangent(snes, x, J, Pmat):
-            t0 = perf_counter()
-            jacobian(snes, x, J, Pmat, *jargs, **jkargs)
-            t1 = perf_counter()
-            for term in self.discrete:
-                term.add_jacobian(J)
-            count(t0, t1)
-
-        self.snes.setFunction(function, b)
-        self.snes.setJacobian(tangent, A, P)
 
     def _guard_divergence(self, f: PETSc.Vec) -> None:
         """PETSc's divergence test, which vinewtonrsls does not apply: a residual grown past
@@ -397,9 +357,7 @@ class Problem(ConvergedAlgebra):
             self._tangent_ksp = None
         if self._nlp is not None and self.snes.getKSP().getPC().getType() == "python":
             self.snes.getKSP().getPC().getPythonContext().destroy()  # ReducedLU (set_bounds)
-        if self._unlifted is not None:
-            self._unlifted.destroy()
-            self._unlifted = None
+        self.assembly.destroy()
         for vec in self._bounds:
             vec.destroy()
         self._bounds = ()

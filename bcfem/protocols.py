@@ -113,6 +113,12 @@ class DiscreteTerm(Protocol):
         so that the problem may factorise its tangent as LDL^T. Default: False."""
         return False
 
+    def tangent_key(self) -> tuple | None:
+        """Arrays that, with the states, determine what :meth:`add_jacobian` adds (e.g. a
+        choice frozen per solve), so that a tangent assembled at the same states and keys is
+        not assembled again (:mod:`bcfem.tangent_memo`). Default: None, assembled every time."""
+        return None
+
     def begin_solve(self) -> None:
         """Called before each Newton solve, e.g. to freeze a choice that must not
         change between iterates. Default: nothing."""

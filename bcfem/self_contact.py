@@ -232,6 +232,11 @@ class WallSelfContact:
         return _padded(np.minimum(start, end) + np.minimum(behind, 0.0),
                        np.maximum(start, end) + np.maximum(behind, 0.0))
 
+    def tangent_key(self) -> tuple:
+        """What the tangent depends on besides the states: who faces whom and the bonds."""
+        facing = np.zeros((0, 0), dtype=bool) if self.facing is None else self.facing
+        return (facing, *self.bonded)
+
     def bond(self, nodes: np.ndarray, segments: np.ndarray) -> None:
         """Hold these (owned node, segment) pairs together from now on: the penalty acts on
         their gap to the segment's line in both directions (frictionless: the node slides

@@ -272,7 +272,7 @@ def test_the_residual_is_lifted_only_where_x_is_off_its_dirichlet_values():
             g.x.array[:] = value
             assert problem.solve()
             states.append(ctx.u.x.array.copy())
-        solves, iterations, liftings = 3, problem.newton_iterations, problem.liftings
+        solves, iterations, liftings = 3, problem.newton_iterations, problem.assembly.liftings
     assert liftings == solves and iterations >= 2 * solves  # residuals: at least 2 per solve
     reference = fem.Function(V)
     residual = ufl.derivative(Anharmonic().energy(Context(reference)), reference)
@@ -285,3 +285,53 @@ def test_the_residual_is_lifted_only_where_x_is_off_its_dirichlet_values():
         assert solver.solver.getConvergedReason() > 0
         np.testing.assert_allclose(state, reference.x.array, rtol=0, atol=1e-12)
         assert np.allclose(state[dofs], value, rtol=0, atol=1e-15)
+
+
+class StiffenedAnharmonic(Anharmonic):
+    """Anharmonic with a run-time factor on its quartic term."""
+
+    def energy(self, ctx):
+        u, k = ctx.u, ctx.constant("quartic", 1.0)
+        return (0.5 * ufl.inner(ufl.grad(u), ufl.grad(u)) + 0.25 * k * u**4 - u) * ufl.dx
+
+
+def held_bar(terms, prefix):
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 16)
+    V = fem.functionspace(msh, ("Lagrange", 2))
+    g = fem.Function(V)
+    bc = fem.dirichletbc(g, fem.locate_dofs_geometrical(V, lambda x: np.isclose(x[0], 0.0)))
+    ctx = Context(fem.Function(V))
+    return ctx, g, Problem(ctx, terms, [bc], prefix, {"snes_rtol": 1e-14, "snes_atol": 1e-13})
+
+
+def test_a_tangent_at_the_same_state_is_assembled_once():
+    # a stability count assembles J at the converged state, and the next solve starts there:
+    # its first Jacobian is that matrix. A discrete term without tangent_key turns the memo off.
+    results = []
+    for extra in ((), (NothingDiscrete(),)):
+        ctx, g, problem = held_bar([Anharmonic(), *extra], "bcfem_test_memo_")
+        with problem:
+            for value in (0.3, 0.7, -0.2):
+                g.x.array[:] = value
+                assert problem.solve()
+                problem.jacobian()  # as the stability count does
+            results.append((ctx.u.x.array.copy(), problem.assembly.memo.reused, problem.newton_iterations))
+    (u_memo, reused, its), (u_fresh, reused_fresh, its_fresh) = results
+    assert reused == 2 and reused_fresh == 0  # the 2nd and 3rd solves' first Jacobians
+    assert its == its_fresh and np.array_equal(u_memo, u_fresh)
+
+
+def test_a_changed_constant_makes_the_tangent_anew():
+    ctx, g, problem = held_bar([StiffenedAnharmonic()], "bcfem_test_memo_k_")
+    with problem:
+        g.x.array[:] = 0.5
+        assert problem.solve()
+        first = problem.jacobian()[0].copy()
+        ctx.constant("quartic").value = 3.0
+        second = problem.jacobian()[0].copy()
+        assert problem.assembly.memo.reused == 0
+        again = problem.jacobian()[0]
+        assert problem.assembly.memo.reused == 1
+        assert again.equal(second) and not second.equal(first)
+        for A in (first, second):
+            A.destroy()
