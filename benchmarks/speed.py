@@ -15,6 +15,7 @@ Usage (from the repository root, on an otherwise idle machine)::
 
     .venv/bin/python benchmarks/speed.py                 # 3 rounds, about 8 min
     .venv/bin/python benchmarks/speed.py --before 14f700f --repeats 5
+    .venv/bin/python benchmarks/speed.py --maps-only     # after the maps were solved again
 
 Writes ``docs/benchmarks/speed.{csv,md,png}``.
 """
@@ -248,7 +249,15 @@ def main(argv=None) -> None:
     parser.add_argument("--repeats", type=positive_int, default=3, help="rounds, >= 1 (default 3)")
     parser.add_argument("--cases", nargs="+", choices=list(CASES), default=list(CASES), metavar="CASE",
                         help=f"a subset of: {', '.join(CASES)}")
+    parser.add_argument("--maps-only", action="store_true",
+                        help="rewrite only speed.md's maps section, from the kept maps' timing.json")
     args = parser.parse_args(argv)
+    if args.maps_only:
+        text = (OUT / "speed.md").read_text()
+        kept = text[:text.index("## The twelve design maps")]
+        atomic_text(OUT / "speed.md", kept + "\n".join(map_timings(args.before)) + "\n")
+        print(f"wrote {OUT / 'speed.md'}")
+        return
     busy = busy_cores()
     before = worktree(args.before)
     try:
