@@ -20,9 +20,9 @@ from dolfinx.fem.petsc import NonlinearProblem, assign
 
 from bcfem import options, petsc_events
 from bcfem.algebra import ConvergedAlgebra
+from bcfem.assembly import Assembly
 from bcfem.newton_cycles import RepeatedIterates
 from bcfem.protocols import declared_multipliers
-from bcfem.assembly import Assembly
 from bcfem.reduced_lu import ReducedLU
 
 #: the parts of :attr:`Problem.timings`
