@@ -370,4 +370,3 @@ class Problem(ConvergedAlgebra):
 
     def __exit__(self, *exc):
         self.close()
-
