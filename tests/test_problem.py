@@ -68,8 +68,10 @@ class Obstacle:
         return (0.5 * (ctx.u - (x[0] - 0.5)) ** 2 + 0.5 * ctx.u**4) * dx
 
 
-class NothingDiscrete:
-    """A discrete term that adds nothing, and does not say its tangent is symmetric."""
+class Silent:
+    """A discrete term that adds nothing to the residual and the tangent (and declares neither
+    a symmetric tangent nor a tangent key)."""
+
     is_discrete = True
 
     def bind(self, problem):
@@ -79,7 +81,7 @@ class NothingDiscrete:
         pass
 
     def add_jacobian(self, A):
-        A.assemble()
+        pass
 
 
 def solve_obstacle(snes_type, extra=(), factor=None):
@@ -107,7 +109,7 @@ def test_the_obstacle_problem_is_solved_with_its_contact_set():
     assert np.allclose(u[free] + 2 * u[free] ** 3, x[free] - 0.5, atol=1e-9)
 
 
-@pytest.mark.parametrize("extra, expected", [((), "cholesky"), ((NothingDiscrete(),), "lu")])
+@pytest.mark.parametrize("extra, expected", [((), "cholesky"), ((Silent(),), "lu")])
 def test_a_symmetric_tangent_is_factorised_as_ldlt(extra, expected):
     # every term an energy: LDL^T; a discrete term that does not say so: LU. Same solution.
     factor = []
@@ -154,21 +156,6 @@ def test_the_saddle_is_solved_also_where_cp_stops_at_a_critical_point(line_searc
     assert ok and norm < 1e-10
     assert np.allclose(u, np.where(x < 0.5, 1.0, -1.0), atol=1e-12)
     assert exits == (1 if line_search == "cp" else 0)
-
-
-class Silent:
-    """A discrete term that adds nothing to the residual and the tangent."""
-
-    is_discrete = True
-
-    def bind(self, problem):
-        pass
-
-    def add_residual(self, b):
-        pass
-
-    def add_jacobian(self, A):
-        pass
 
 
 class Veto(Silent):
@@ -248,25 +235,33 @@ def test_a_residual_grown_past_the_divergence_tolerance_stops_the_solve(divtol):
 
 
 class Anharmonic:
-    """|u'|^2/2 + u^4/4 - u: a nonlinear bar, held at x = 0 by a Dirichlet condition."""
+    """|u'|^2/2 + k u^4/4 - u (k a run-time constant, 1): a nonlinear bar, held at x = 0 by a
+    Dirichlet condition."""
 
     def energy(self, ctx):
-        u = ctx.u
-        return (0.5 * ufl.inner(ufl.grad(u), ufl.grad(u)) + 0.25 * u**4 - u) * ufl.dx
+        u, k = ctx.u, ctx.constant("quartic", 1.0)
+        return (0.5 * ufl.inner(ufl.grad(u), ufl.grad(u)) + 0.25 * k * u**4 - u) * ufl.dx
+
+
+TIGHT = {"snes_rtol": 1e-14, "snes_atol": 1e-13}
+
+
+def held_bar(terms, prefix):
+    """(context, Dirichlet value g, its dofs, problem) of the bar held at x = 0."""
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 16)
+    V = fem.functionspace(msh, ("Lagrange", 2))
+    g = fem.Function(V)
+    dofs = fem.locate_dofs_geometrical(V, lambda x: np.isclose(x[0], 0.0))
+    ctx = Context(fem.Function(V))
+    return ctx, g, dofs, Problem(ctx, terms, [fem.dirichletbc(g, dofs)], prefix, TIGHT)
 
 
 def test_the_residual_is_lifted_only_where_x_is_off_its_dirichlet_values():
     # dolfinx's lifting adds J (g - x); bcfem skips it where g - x is round-off. Each solve
     # moves g, so its first residual needs it and no later one; the states equal a solve by
     # dolfinx's own residual (lifting at every evaluation).
-    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 16)
-    V = fem.functionspace(msh, ("Lagrange", 2))
-    g = fem.Function(V)
-    dofs = fem.locate_dofs_geometrical(V, lambda x: np.isclose(x[0], 0.0))
-    bc = fem.dirichletbc(g, dofs)
-    ctx = Context(fem.Function(V))
-    tight = {"snes_rtol": 1e-14, "snes_atol": 1e-13}
-    with Problem(ctx, [Anharmonic()], [bc], "bcfem_test_lift_", tight) as problem:
+    ctx, g, dofs, problem = held_bar([Anharmonic()], "bcfem_test_lift_")
+    with problem:
         states = []
         for value in (0.3, 0.7, -0.2):
             g.x.array[:] = value
@@ -274,42 +269,25 @@ def test_the_residual_is_lifted_only_where_x_is_off_its_dirichlet_values():
             states.append(ctx.u.x.array.copy())
         solves, iterations, liftings = 3, problem.newton_iterations, problem.assembly.liftings
     assert liftings == solves and iterations >= 2 * solves  # residuals: at least 2 per solve
-    reference = fem.Function(V)
+    reference = fem.Function(ctx.u.function_space)
     residual = ufl.derivative(Anharmonic().energy(Context(reference)), reference)
     for value, state in zip((0.3, 0.7, -0.2), states):
         g.x.array[:] = value
-        solver = NonlinearProblem(residual, reference, bcs=[bc], petsc_options_prefix="bcfem_test_lift_ref_",
+        solver = NonlinearProblem(residual, reference, bcs=problem.bcs, petsc_options_prefix="bcfem_test_lift_ref_",
                                   petsc_options={"snes_type": "newtonls", "snes_linesearch_type": "basic",
-                                                 "ksp_type": "preonly", "pc_type": "lu", **tight})
+                                                 "ksp_type": "preonly", "pc_type": "lu", **TIGHT})
         solver.solve()
         assert solver.solver.getConvergedReason() > 0
         np.testing.assert_allclose(state, reference.x.array, rtol=0, atol=1e-12)
         assert np.allclose(state[dofs], value, rtol=0, atol=1e-15)
 
 
-class StiffenedAnharmonic(Anharmonic):
-    """Anharmonic with a run-time factor on its quartic term."""
-
-    def energy(self, ctx):
-        u, k = ctx.u, ctx.constant("quartic", 1.0)
-        return (0.5 * ufl.inner(ufl.grad(u), ufl.grad(u)) + 0.25 * k * u**4 - u) * ufl.dx
-
-
-def held_bar(terms, prefix):
-    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 16)
-    V = fem.functionspace(msh, ("Lagrange", 2))
-    g = fem.Function(V)
-    bc = fem.dirichletbc(g, fem.locate_dofs_geometrical(V, lambda x: np.isclose(x[0], 0.0)))
-    ctx = Context(fem.Function(V))
-    return ctx, g, Problem(ctx, terms, [bc], prefix, {"snes_rtol": 1e-14, "snes_atol": 1e-13})
-
-
 def test_a_tangent_at_the_same_state_is_assembled_once():
     # a stability count assembles J at the converged state, and the next solve starts there:
     # its first Jacobian is that matrix. A discrete term without tangent_key turns the memo off.
     results = []
-    for extra in ((), (NothingDiscrete(),)):
-        ctx, g, problem = held_bar([Anharmonic(), *extra], "bcfem_test_memo_")
+    for extra in ((), (Silent(),)):
+        ctx, g, _, problem = held_bar([Anharmonic(), *extra], "bcfem_test_memo_")
         with problem:
             for value in (0.3, 0.7, -0.2):
                 g.x.array[:] = value
@@ -322,7 +300,7 @@ def test_a_tangent_at_the_same_state_is_assembled_once():
 
 
 def test_a_changed_constant_makes_the_tangent_anew():
-    ctx, g, problem = held_bar([StiffenedAnharmonic()], "bcfem_test_memo_k_")
+    ctx, g, _, problem = held_bar([Anharmonic()], "bcfem_test_memo_k_")
     with problem:
         g.x.array[:] = 0.5
         assert problem.solve()
