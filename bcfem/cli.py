@@ -8,153 +8,18 @@ message naming the parameter, before any meshing, compilation or output.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import json
-import math
 import sys
-from pathlib import Path
 
 from mpi4py import MPI
 
-
-class _Parser(argparse.ArgumentParser):
-    """An ArgumentParser that reports errors on rank 0 only."""
-
-    def _print_message(self, message, file=None):
-        if MPI.COMM_WORLD.rank == 0:
-            super()._print_message(message, file)
-
-
-def _float(text: str) -> float:
-    value = float(text)
-    if math.isnan(value):
-        raise argparse.ArgumentTypeError("nan is not a number here")
-    return value
-
-
-class _Range(str):
-    """A sweep flag's ``start:stop:step`` (e.g. ``--preload 0:0.5:0.025``): a grid axis."""
-
-
-def _range_or(convert):
-    def parse(text: str):
-        return _Range(text) if ":" in text else convert(text)
-
-    parse.__name__ = f"start:stop:step or {convert.__name__}"
-    return parse
-
-
-def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> None:
-    """One flag per field of ``params_cls``; with ``ranges`` a float flag also takes
-    ``start:stop:step`` (a sweep axis). A field's help, unit, choices and named values
-    come from its metadata (``help``, ``unit``, ``choices``, ``words``), else from
-    ``help_text`` and the class's ``CHOICES`` and ``WORDS``."""
-    defaults = params_cls()
-    for f in dataclasses.fields(params_cls):
-        default = getattr(defaults, f.name)
-        if dataclasses.is_dataclass(default):
-            continue
-        flag = "--" + f.name.replace("_", "-")
-        kind = type(default)
-        text = f.metadata.get("help", help_text.get(f.name, ""))
-        unit = f.metadata.get("unit", "")
-        unit = f" [{unit}]" if unit not in ("", "1") else ""
-        kwargs = {"default": default, "help": f"{text}{unit} (default: {default})"}
-        choices = f.metadata.get("choices", getattr(params_cls, "CHOICES", {}).get(f.name))
-        if choices:
-            kwargs["choices"] = list(choices)
-        if kind is bool:
-            kwargs["action"] = argparse.BooleanOptionalAction
-        else:
-            kwargs["type"] = _float if kind is float else kind
-        words = f.metadata.get("words", getattr(params_cls, "WORDS", {}).get(f.name))
-        if words:  # named values, e.g. --preload closure
-            kwargs["type"] = _words_or(words, kwargs["type"])
-        if ranges and kind is float:
-            kwargs["type"] = _range_or(kwargs["type"])
-        parser.add_argument(flag, dest=f.name, **kwargs)
-
-
-def _words_or(words: dict, convert):
-    def parse(text: str):
-        return words[text] if text in words else convert(text)
-
-    parse.__name__ = f"{' or '.join(words)} or {convert.__name__}"
-    return parse
-
-
-def build_parser():
-    from bcfem.scenes import REGISTRY
-
-    parser = _Parser(prog="bcfem", description="Blisters and craters: fluid-induced large deformation "
-                     "at soft interfaces (FEniCSx). PETSc options (-snes_rtol 1e-12, ...) pass through; "
-                     "the user's values win over bcfem's defaults.")
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    run = sub.add_parser("run", help="trace one scene along its load path",
-                         description="Scenes: " + ", ".join(REGISTRY))
-    scenes = run.add_subparsers(dest="scene", required=True, metavar="SCENE", parser_class=_Parser)
-    for name, module in REGISTRY.items():
-        p = scenes.add_parser(name, help=module.SUMMARY, description=module.DESCRIPTION,
-                              formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, getattr(module, "HELP", {}))
-        p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
-        p.add_argument("--quiet", action="store_true", help="no progress line")
-        p.add_argument("--plots", action=argparse.BooleanOptionalAction, default=True,
-                       help="draw the PNGs (matplotlib is loaded only to draw them)")
-        p.add_argument("--profile", action="store_true",
-                       help="print where the wall time went (also in summary.json: time_split_s)")
-    from bcfem.scenes import STUDIES
-
-    sweep = sub.add_parser("sweep", help="solve a grid of parameter points over MPI ranks (resumable)")
-    sweeps = sweep.add_subparsers(dest="scene", required=True, metavar="SCENE", parser_class=_Parser)
-    fit = sub.add_parser("fit", help="recover parameters from measured quantities")
-    fits = fit.add_subparsers(dest="scene", required=True, metavar="SCENE", parser_class=_Parser)
-    for name, studies in STUDIES.items():
-        module = REGISTRY[name]
-        p = sweeps.add_parser(name, help=f"maps {studies.SWEEP['title']}", description=module.DESCRIPTION,
-                              formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, getattr(module, "HELP", {}), ranges=True)
-        p.add_argument("--grid", action="append", default=[], metavar="NAME=START:STOP:COUNT",
-                       help="a grid axis: NAME=START:STOP:COUNT or NAME=V1,V2,... (repeat for each axis; "
-                            "two axes give contour maps); a parameter flag given as START:STOP:STEP "
-                            "(e.g. --preload 0:0.5:0.025) is an axis too")
-        p.add_argument("--out", type=Path, default=Path("results") / f"{name}-sweep")
-        p.add_argument("--quiet", action="store_true")
-        p.add_argument("--retry-failed", action="store_true",
-                       help="solve again the points a previous run recorded as failed (else they are kept)")
-        if not hasattr(studies, "fit"):
-            continue
-        p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,
-                            formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, getattr(module, "HELP", {}))
-        for target, text in studies.FIT_TARGETS.items():
-            p.add_argument(f"--{target}", dest=f"target_{target}", type=_float, required=True, help=text)
-        p.add_argument("--out", type=Path, default=Path("results") / f"{name}-fit")
-        p.add_argument("--quiet", action="store_true")
-    return parser
-
-
-def _split_petsc(argv: list[str]) -> tuple[list[str], list[str]]:
-    """Separate ``-key [value]`` PETSc options from bcfem's ``--options``."""
-    ours, petsc = [], []
-    i = 0
-    while i < len(argv):
-        a = argv[i]
-        if a.startswith("-") and not a.startswith("--") and len(a) > 2 and a[1].isalpha():
-            petsc.append(a)
-            if i + 1 < len(argv) and not argv[i + 1].startswith("-"):
-                petsc.append(argv[i + 1])
-                i += 1
-        else:
-            ours.append(a)
-        i += 1
-    return ours, petsc
+from bcfem.arguments import AxisSpec, build_parser, split_petsc
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    ours, petsc = _split_petsc(argv)
+    ours, petsc = split_petsc(argv)
     parser = build_parser()
     args = parser.parse_args(ours)
     from bcfem.scenes import REGISTRY
@@ -163,7 +28,7 @@ def main(argv: list[str] | None = None) -> int:
     values = {f.name: getattr(args, f.name) for f in dataclasses.fields(module.Params)
               if hasattr(args, f.name)}
     # sweep axes given as --name start:stop:step; the Params hold the default there
-    args.ranges = {k: str(v) for k, v in values.items() if isinstance(v, _Range)}
+    args.ranges = {k: str(v) for k, v in values.items() if isinstance(v, AxisSpec)}
     values = {k: v for k, v in values.items() if k not in args.ranges}
     try:
         params = module.Params(**values)

@@ -228,7 +228,7 @@ def bcfem_phases(case: dict) -> dict:
     from mpi4py import MPI
 
     from bcfem import log, options, runner
-    from bcfem.cli import build_parser
+    from bcfem.arguments import build_parser
     from bcfem.scenes import REGISTRY
 
     module = REGISTRY["blister-rigid"]
