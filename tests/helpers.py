@@ -1,5 +1,6 @@
 """Helpers shared by tests: run the ``bcfem`` command line on MPI ranks; closed forms used twice."""
 
+import math
 import os
 import subprocess
 import sys
@@ -31,3 +32,17 @@ def exact_nominal_stress(stretch, kappa):
     l = brentq(lateral_stress, 0.2, 3.0, xtol=1e-15)
     J = stretch * l * l
     return stretch - 1 / stretch + kappa * (J - 1) * J / stretch
+
+
+def same_loads(rows, reference, load: str, rtol: float = 1e-9) -> list[tuple[dict, dict]]:
+    """The pairs (row, reference row) of one stage at the same ``load`` (``eps``, or the arc
+    length ``s``). Two runs that differ in round-off (ranks, BLAS kernels) can differ in a Newton
+    iteration count, which sizes the next arc-length step or cuts a load step: their rows meet
+    at the declared checkpoints, and everywhere until their steps part."""
+    pairs = []
+    for row in rows:
+        match = next((r for r in reference if r.get("stage") == row.get("stage")
+                      and math.isclose(r[load], row[load], rel_tol=rtol, abs_tol=1e-12)), None)
+        if match is not None:
+            pairs.append((row, match))
+    return pairs

@@ -17,10 +17,11 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 from dolfinx import fem
-from helpers import bcfem
+from helpers import bcfem, same_loads
 from test_terms import assert_second_order, taylor
 
 from bcfem import global_sum
+from bcfem.io import read_csv
 from bcfem.problem import Problem
 from bcfem.scenes import blister_soft
 
@@ -183,12 +184,12 @@ def test_two_ranks_equal_serial(tmp_path):
         assert (out / "fields.bp" / "md.idx").is_file() and (out / "fields_lift.bp" / "md.idx").is_file()
     for key in ("V_over_V0", "P", "aspect", "indentation"):
         assert p_max(parallel)[key] == pytest.approx(p_max(serial)[key], rel=1e-8)
-    rows1 = (out1 / "branch.csv").read_text().splitlines()
-    rows2 = (out2 / "branch.csv").read_text().splitlines()
-    assert len(rows1) == len(rows2)
-    last1 = np.array(rows1[-1].split(","), dtype=float)
-    last2 = np.array(rows2[-1].split(","), dtype=float)
-    assert last2 == pytest.approx(last1, rel=1e-7, abs=1e-9)
+    # the rows at the same arc length, and the end V/V0 = 1.5, which the steps do not decide
+    rows1, rows2 = read_csv(out1 / "branch.csv"), read_csv(out2 / "branch.csv")
+    pairs = same_loads(rows2, rows1, "s") + [(rows2[-1], rows1[-1])]
+    assert pairs[0][0] is rows2[0]
+    for mine, theirs in pairs:
+        assert mine == pytest.approx(theirs, rel=1e-7, abs=1e-9)
 
 
 @pytest.mark.convergence
@@ -264,14 +265,16 @@ def test_membrane_free_limit_gives_neumanns_triangle(tmp_path, tensions):
 @pytest.mark.slow
 @pytest.mark.serial
 def test_nearly_incompressible_substrate_is_locking_free(tmp_path):
-    """kappa/mu_s = 1e4, 1e6, 1e8: every run converges with the same Newton iterations, and P_max
-    tends to the incompressible limit like mu_s/kappa (the changes shrink a hundredfold)."""
+    """kappa/mu_s = 1e4, 1e6, 1e8: every run converges, at about the same cost (a locking element
+    would need ever more Newton iterations), and P_max tends to the incompressible limit like
+    mu_s/kappa (the changes shrink a hundredfold). The counts themselves are round-off's: at
+    kappa/mu_s = 1e8 the last iterations of a solve sit at its floor (168, 168, 165 here)."""
     found = []
     for kappa in (1e4, 1e6, 1e8):
         summary, _ = run(tmp_path, f"kappa{kappa:g}", "blister-soft", "--kappa-ratio", kappa, "--v-max", "1.3",
                          "--size-contact", "0.04", "--growth", "1.5", "--quiet")
         found.append((p_max(summary)["P"], summary["newton_iterations"]))
     (P4, n4), (P6, n6), (P8, n8) = found
-    assert n4 == n6 == n8, found
+    assert max(n4, n6, n8) < 1.5 * min(n4, n6, n8), found
     assert abs(P4 / P6 - 1) < 1e-5
     assert 30 < abs(P4 - P6) / abs(P6 - P8) < 300, found
