@@ -92,6 +92,8 @@ def plot(rows, summary):
     fig, axes = plt.subplots(1, 3, figsize=(11, 3.4))
     for stage, style in (("load", "-o"), ("unload", "-s")):
         part = [r for r in rows if r["stage"] == stage]
+        if not part:  # not reached (a failed run): no curve, no legend entry
+            continue
         eps = [r["eps"] for r in part]
         for ax, key, label in zip(axes, ("V_over_V0", "p_over_pa", "F_tilde"), ("V/V0", "p/p_a", "F~")):
             ax.plot(eps, [r[key] for r in part], style, ms=3, label=stage)

@@ -22,11 +22,14 @@ def plot_cycle(rows, summary):
     fig, (ax, axf) = plt.subplots(1, 2, figsize=(9, 3.4))
     for stage, colour in (("load", "tab:red"), ("unload", "tab:blue")):
         part = stage_rows(rows, stage)
+        if len(part) < (1 if stage == "load" else 2):  # not reached (a failed run): no curve, no entry
+            continue
         eps = [r["eps"] for r in part]
         ax.plot(eps, [r["p_c1_over_pa"] - 1 for r in part], "-", color=colour, label=f"C1, {stage}")
         two = [r for r in part if r["chambers"] == 2]
-        ax.plot([r["eps"] for r in two], [r["p_c2_over_pa"] - 1 for r in two], "--", color=colour,
-                label=f"C2, {stage}")
+        if two:  # C2 exists only while the chambers are split
+            ax.plot([r["eps"] for r in two], [r["p_c2_over_pa"] - 1 for r in two], "--o", ms=2.5,
+                    color=colour, label=f"C2, {stage}")
         axf.plot(eps, [r["F_tilde"] for r in part], "-", color=colour, label=stage)
     split = summary.get("split")
     for a in (ax, axf):
@@ -36,9 +39,10 @@ def plot_cycle(rows, summary):
     ax.set_ylabel("(p_ci - p_a) / p_a")
     axf.set_ylabel("F~ = (p_a - p_c1) A_c1 / (p_a A0)")
     ax.legend(fontsize=7)
+    axf.legend(fontsize=7)
     if summary["status"] == "ok":
-        axf.set_title(f"F~ = {summary['F_tilde']:.4g}, split at ε = "
-                      + (f"{split['eps']:.4g}" if split else "none"), fontsize=9)
+        axf.set_title(f"F~ = {summary['F_tilde']:.4g}, "
+                      + (f"split at ε = {split['eps']:.4g}" if split else "no split"), fontsize=9)
     else:
         axf.set_title("failed: the converged part", fontsize=9)
     fig.tight_layout()
@@ -46,24 +50,31 @@ def plot_cycle(rows, summary):
 
 
 def plot_shapes(shapes):
-    """The cavity's walls (sidewall, roof, protuberance) at each kept state, side by side."""
+    """The cavity's walls (sidewall, roof, protuberance) at each kept state, side by side, in
+    units of the crater height H: deformed (solid), at rest (dotted) and the plate (black)."""
     from bcfem.plots import pyplot
 
     plt = pyplot()
-    fig, axes = plt.subplots(1, max(len(shapes), 1), figsize=(2.3 * max(len(shapes), 1), 2.8), squeeze=False)
+    fig, axes = plt.subplots(1, max(len(shapes), 1), figsize=(2.3 * max(len(shapes), 1), 3.0), squeeze=False)
     rest = shapes[0]["x"] if shapes else None
-    for ax, shape in zip(axes[0], shapes):
+    for i, (ax, shape) in enumerate(zip(axes[0], shapes)):
         segments = shape["segments"]
-        for x, style in ((rest, dict(color="0.6", lw=0.6, ls=":")), (shape["x"], dict(color="C0", lw=1.2))):
+        for x, style in ((rest, dict(color="0.6", lw=0.6, ls=":", label="at rest")),
+                         (shape["x"], dict(color="C0", lw=1.2, label="deformed"))):
             ends = x[segments]  # (segments, 2 ends, 2 coordinates)
             lines = np.full((len(ends), 3, 2), np.nan)
             lines[:, :2] = ends
             ax.plot(lines[:, :, 0].ravel(), lines[:, :, 1].ravel(), **style)
-        ax.axhline(0, color="k", lw=1.2)
+        ax.axhline(0, color="k", lw=1.2, label="plate")
         ax.set_aspect("equal")
         ax.set_xlim(0, 1.3 * rest[:, 0].max())
         ax.set_ylim(-0.05, 1.1 * rest[:, 1].max())
         ax.set_title(f"{shape['label']}, ε = {shape['eps']:.3g}", fontsize=8)
+        ax.set_xlabel("r / H", fontsize=8)
+        if i == 0:
+            ax.set_ylabel("z / H", fontsize=8)
         ax.tick_params(labelsize=7)
-    fig.tight_layout()
+    if shapes:  # below the panels, where it hides no wall
+        fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     return fig
