@@ -10,20 +10,51 @@ from pathlib import Path
 
 from mpi4py import MPI
 
+from bcfem.params import Bound, bound_of, flag
+
 
 class _Parser(argparse.ArgumentParser):
-    """An ArgumentParser that reports errors on rank 0 only."""
+    """An ArgumentParser that reports on rank 0 only, and an error in one line naming the flag
+    as typed (flags are never abbreviated), exit code 2."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, allow_abbrev=False, **kwargs)
 
     def _print_message(self, message, file=None):
         if MPI.COMM_WORLD.rank == 0:
             super()._print_message(message, file)
 
+    def error(self, message):
+        message = message.replace("argument ", "", 1) if message.startswith("argument ") else message
+        self.exit(2, f"{self.prog}: error: {message} ({self.prog} --help lists every flag)\n")
+
 
 def _float(text: str) -> float:
-    value = float(text)
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number (got {text!r})") from None
     if math.isnan(value):
         raise argparse.ArgumentTypeError("nan is not a number here")
     return value
+
+
+def _integer(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number (got {text!r})") from None
+
+
+def _bounded(bound: Bound):
+    """A float flag checked against ``bound`` as it is parsed (a fit's targets)."""
+    def parse(text: str) -> float:
+        value = _float(text)
+        if not bound.admits(value):
+            raise argparse.ArgumentTypeError(f"must be {bound} (got {text})")
+        return value
+
+    return parse
 
 
 class AxisSpec(str):
@@ -42,31 +73,33 @@ def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> No
     """One flag per field of ``params_cls``; with ``ranges`` a float flag also takes
     ``start:stop:step`` (a sweep axis). A field's help, unit, choices and named values
     come from its metadata (``help``, ``unit``, ``choices``, ``words``), else from
-    ``help_text`` and the class's ``CHOICES`` and ``WORDS``."""
+    ``help_text`` and the class's ``CHOICES`` and ``WORDS``; its range from its bound
+    (:func:`bcfem.params.bound_of`)."""
     defaults = params_cls()
     for f in dataclasses.fields(params_cls):
         default = getattr(defaults, f.name)
         if dataclasses.is_dataclass(default):
             continue
-        flag = "--" + f.name.replace("_", "-")
         kind = type(default)
         text = f.metadata.get("help", help_text.get(f.name, ""))
         unit = f.metadata.get("unit", "")
         unit = f" [{unit}]" if unit not in ("", "1") else ""
-        kwargs = {"default": default, "help": f"{text}{unit} (default: {default})"}
+        bound = bound_of(params_cls, f.name)
+        bound = f"; {bound}" if bound else ""
+        kwargs = {"default": default, "help": f"{text}{unit}{bound} (default: {default})"}
         choices = f.metadata.get("choices", getattr(params_cls, "CHOICES", {}).get(f.name))
         if choices:
             kwargs["choices"] = list(choices)
         if kind is bool:
             kwargs["action"] = argparse.BooleanOptionalAction
         else:
-            kwargs["type"] = _float if kind is float else kind
+            kwargs["type"] = {float: _float, int: _integer}.get(kind, kind)
         words = f.metadata.get("words", getattr(params_cls, "WORDS", {}).get(f.name))
         if words:  # named values, e.g. --preload closure
             kwargs["type"] = _words_or(words, kwargs["type"])
         if ranges and kind is float:
             kwargs["type"] = _range_or(kwargs["type"])
-        parser.add_argument(flag, dest=f.name, **kwargs)
+        parser.add_argument(flag(f.name), dest=f.name, **kwargs)
 
 
 def _words_or(words: dict, convert):
@@ -121,8 +154,9 @@ def build_parser():
         p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,
                             formatter_class=argparse.RawDescriptionHelpFormatter)
         _add_params(p, module.Params, getattr(module, "HELP", {}))
-        for target, text in studies.FIT_TARGETS.items():
-            p.add_argument(f"--{target}", dest=f"target_{target}", type=_float, required=True, help=text)
+        for target, (text, bound) in studies.FIT_TARGETS.items():
+            p.add_argument(f"--{target}", dest=f"target_{target}", type=_bounded(bound), required=True,
+                           help=f"{text}; {bound}")
         p.add_argument("--out", type=Path, default=Path("results") / f"{name}-fit")
         p.add_argument("--quiet", action="store_true")
     return parser

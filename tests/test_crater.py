@@ -105,7 +105,7 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
     (["--alpha", "1.2"], "alpha"),
     (["--alpha", "0"], "alpha"),
     (["--preload", "-0.1"], "preload"),
-    (["--crater-radius", "12.7"], "crater radius"),
+    (["--crater-radius", "12.7"], "--crater-radius"),
     (["--preload", "0.95"], "preload"),
     (["--beta", "0"], "beta"),
     (["--layer-thickness", "0.5"], "layer-thickness"),

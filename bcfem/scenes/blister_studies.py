@@ -13,13 +13,13 @@ Map points and fit evaluations that differ only in the run-time parameters
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import asdict, replace
 
 from dolfinx import fem
 
 from bcfem.continuation import ContinuationError
 from bcfem.mpi import global_sum, real_value
-from bcfem.params import require
+from bcfem.params import Bound, require
 from bcfem.problem import Problem
 from bcfem.scenes.blister_rigid import V0, Params, build, compose, scene_for, structure
 from bcfem.session import Sessions
@@ -95,7 +95,7 @@ def after_onset(params: Params, comm) -> dict:
     ``onset: false`` (and no values) when the blister reaches v_max without
     delaminating, as neo-Hookean blisters with strong adhesion do.
     """
-    params = replace(params, edge="adhesive", stop_radius=1.02)
+    params = onset_params(params)
     session = _sessions.get(structure(params), comm, lambda: compose(params, comm))
     branch = session.trace(scene_for(session.model, params))
     onset = next((e for e in branch.events if e["name"] == "delamination onset"), None)
@@ -108,6 +108,11 @@ def after_onset(params: Params, comm) -> dict:
             "contact_angle_deg": onset["contact_angle_deg"], "self_similarity_drift": drift}
 
 
+def onset_params(params: Params) -> Params:
+    """``params`` as :func:`after_onset` solves them: an adhesive edge, traced to R1 = 1.02 R0."""
+    return replace(params, edge="adhesive", stop_radius=1.02)
+
+
 def fit(aspect: float, P1: float, params: Params, comm, guess=(1.0, 5.0), tol: float = 1e-10) -> dict:
     """(alpha, adhesion) from a delaminating blister's aspect z(0)/R1 and dp R1/(mu_f t0),
     with the discretisation uncertainty: the fit is repeated on twice the cells and
@@ -118,14 +123,17 @@ def fit(aspect: float, P1: float, params: Params, comm, guess=(1.0, 5.0), tol: f
     return {**fine, "alpha_uncertainty": abs(fine["alpha"] - coarse["alpha"]),
             "adhesion_uncertainty": abs(fine["adhesion"] - coarse["adhesion"]),
             "converged": coarse["converged"] and fine["converged"], "cells": fine_params.cells,
-            "evaluations": coarse["evaluations"] + fine["evaluations"]}
+            "evaluations": coarse["evaluations"] + fine["evaluations"],
+            "parameters": {**asdict(onset_params(fine_params)), "alpha": fine["alpha"],
+                           "adhesion": fine["adhesion"]}}
 
 
 def solve_fit(aspect: float, P1: float, params: Params, comm, guess, tol: float) -> dict:
     """Solve the two self-similar conditions with Powell's hybrid method; each
     evaluation is one traced branch."""
-    require(aspect > 0, f"aspect must be > 0 (got {aspect})")
-    require(P1 > 0, f"P1 must be > 0 (got {P1})")
+    for name, value in (("aspect", aspect), ("P1", P1)):
+        bound = FIT_TARGETS[name][1]
+        require(bound.admits(value), f"--{name} must be {bound} (got {value})")
     from scipy.optimize import root
 
     evaluations = []
@@ -154,6 +162,6 @@ def solve_fit(aspect: float, P1: float, params: Params, comm, guess, tol: float)
 #: What ``bcfem sweep`` computes at each point, and the maps it draws.
 SWEEP = {"solve": after_onset, "maps": MAP_COLUMNS,
          "title": "after delamination onset (self-similar growth)"}
-#: What ``bcfem fit`` matches: target name -> help.
-FIT_TARGETS = {"aspect": "measured z(0)/R1 of a delaminating blister, > 0",
-               "P1": "measured dp R1/(mu_f t0) of a delaminating blister, > 0"}
+#: What ``bcfem fit`` matches: target name -> (help, the range it is checked against).
+FIT_TARGETS = {"aspect": ("measured z(0)/R1 of a delaminating blister", Bound(0, 10, open_low=True)),
+               "P1": ("measured dp R1/(mu_f t0) of a delaminating blister", Bound(0, 1e3, open_low=True))}

@@ -6,13 +6,12 @@ mu_f t0 R0^2 (mu_f t0: the membrane's shear modulus times its thickness).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import ClassVar
 
 from bcfem.geometry.substrate import SubstrateGeometry
 from bcfem.materials import MATERIALS
-from bcfem.params import ContinuationParams, require
+from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, flags_named, require
 
 SUMMARY = "membrane blister bonded to a soft substrate, one energy (ch. 4)"
 DESCRIPTION = """\
@@ -55,21 +54,21 @@ point, which differs from the material point by the front's map when R1 > R0),
 DIR/fields_lift.bp (VTX, the free membrane's lift w on the wetted top: x_f = x_s + w)."""
 HELP = {
     "material": "strain-energy function of the membrane",
-    "Jm": "Gent locking limit of I1-3, > 0 (Gent only)",
-    "stiffness_ratio": "mu_s R0 / (mu_f t0), in (0, 1e6]",
-    "alpha": "gamma_l/(mu_f t0), liquid-membrane interface energy, >= 0",
-    "gamma_ls": "gamma_ls/(mu_f t0), liquid-substrate interface energy, >= 0",
-    "delta_gamma": "dgamma/(mu_f t0), membrane-substrate interface energy, >= 0",
+    "Jm": "Gent locking limit of I1-3 (Gent only)",
+    "stiffness_ratio": "mu_s R0 / (mu_f t0) (large: the rigid substrate)",
+    "alpha": "gamma_l/(mu_f t0), liquid-membrane interface energy",
+    "gamma_ls": "gamma_ls/(mu_f t0), liquid-substrate interface energy",
+    "delta_gamma": "dgamma/(mu_f t0), membrane-substrate interface energy",
     "edge": "edge condition: bonded (R0 fixed) or adhesive (the debond radius R1 >= R0 is a state, "
             "released when -dPi/dR1 turns positive, then dPi/dR1 = 0)",
-    "size_factor": "L: the substrate block is L R0 wide and deep, > 1",
+    "size_factor": "L: the substrate block is L R0 wide and deep (the adhesive edge: L >= 2.5)",
     "v_max": "end of the branch, V/V0 > v-start",
-    "v_start": "start of the branch, V/V0 > 0",
-    "size_contact": "element size at the contact line, in R0, > 0",
+    "v_start": "start of the branch, V/V0",
+    "size_contact": "element size at the contact line, in R0",
     "size_far": "largest element size, in R0 (0: L/10)",
-    "growth": "size ratio of neighbouring elements, in (1, 2]",
-    "refine": "halve every element size this many times, >= 0",
-    "kappa_ratio": "bulk over shear modulus of the substrate, in [10, 1e8]",
+    "growth": "size ratio of neighbouring elements",
+    "refine": "halve every element size this many times",
+    "kappa_ratio": "bulk over shear modulus of the substrate",
 }
 COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0", "energy",
            "z_apex", "R1_over_R0", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "J_min", "s"]
@@ -114,25 +113,23 @@ class Params:
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds=0.02, ds_max=0.05))
 
     CHOICES: ClassVar[dict] = {"material": sorted(MATERIALS), "edge": list(EDGES)}
+    BOUNDS: ClassVar[dict] = {
+        "Jm": Bound(1e-2, 1e6), "stiffness_ratio": Bound(1e-3, 1e6), "alpha": Bound(0, 1e3),
+        "gamma_ls": Bound(0, 1e3), "delta_gamma": Bound(0, 1e3), "size_factor": Bound(1, 100, open_low=True),
+        "v_max": Bound(0, 1e3, open_low=True), "v_start": Bound(0, 1e3, open_low=True, open_high=True),
+        "size_contact": Bound(1e-4, 0.5), "size_far": Bound(1e-3, 100, also=(0.0,)),
+        "growth": Bound(1, 2, open_low=True), "refine": Bound(0, 6, integer=True), "kappa_ratio": Bound(10, 1e8)}
 
     def __post_init__(self):
-        require(self.material in MATERIALS, f"material must be one of {sorted(MATERIALS)} (got {self.material!r})")
-        require(self.Jm > 0 and not math.isnan(self.Jm), f"Jm must be > 0 (got {self.Jm})")
-        require(0 < self.stiffness_ratio <= 1e6, f"stiffness-ratio must be in (0, 1e6] (got {self.stiffness_ratio})")
-        for name in ("alpha", "gamma_ls", "delta_gamma"):
-            value = getattr(self, name)
-            require(value >= 0 and math.isfinite(value),
-                    f"{name.replace('_', '-')} must be >= 0 and finite (got {value})")
-        require(self.edge in EDGES, f"edge must be one of {list(EDGES)} (got {self.edge!r})")
-        require(self.size_factor > 1 and math.isfinite(self.size_factor),
-                f"size-factor must be > 1 (got {self.size_factor})")
+        check_bounds(self)
+        require(self.material in MATERIALS, f"--material must be one of {sorted(MATERIALS)} (got {self.material!r})")
+        require(self.edge in EDGES, f"--edge must be one of {list(EDGES)} (got {self.edge!r})")
         require(self.edge != "adhesive" or self.size_factor >= 2 * (1 + FRONT_PLATEAU),
-                f"size-factor must be >= {2 * (1 + FRONT_PLATEAU):g} for the adhesive edge (got {self.size_factor})")
-        require(0 < self.v_start < self.v_max and math.isfinite(self.v_max),
-                f"need 0 < v-start < v-max (got {self.v_start}, {self.v_max})")
-        require(self.size_far >= 0, f"size-far must be >= 0 (got {self.size_far})")
-        require(10 <= self.kappa_ratio <= 1e8, f"kappa-ratio must be in [10, 1e8] (got {self.kappa_ratio})")
-        self.geometry()  # validates the mesh sizes (ValueError naming the parameter)
+                f"--size-factor must be >= {2 * (1 + FRONT_PLATEAU):g} for the adhesive edge (got {self.size_factor})")
+        require(self.v_start < self.v_max, f"need --v-start < --v-max (got {self.v_start}, {self.v_max})")
+        with flags_named(self):
+            geometry = self.geometry()  # the mesh sizes, before any meshing
+        check_meshable(geometry.estimated_cells(), "--size-contact, --size-far, --growth, --refine and --size-factor")
 
     def geometry(self) -> SubstrateGeometry:
         return SubstrateGeometry(size_factor=self.size_factor, size_contact=self.size_contact,

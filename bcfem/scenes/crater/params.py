@@ -6,11 +6,10 @@ parameters and constants without loading the finite-element stack.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from bcfem.geometry.crater import CraterGeometry
-from bcfem.params import require
+from bcfem.params import Bound, check_bounds, describe, flags_named, require
 
 SUMMARY = "air- or liquid-filled crater pressed on a rigid plate: the suction cycle (ch. 7-8)"
 DESCRIPTION = """\
@@ -74,80 +73,80 @@ COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_
 STABILITY = ["stable", "unstable-unloading", "unstable-both"]
 
 
-def _help(text: str, unit: str = "", choices=None, words=None) -> dict:
-    return {"help": text, "unit": unit, **({"choices": choices} if choices else {}),
-            **({"words": words} if words else {})}
-
-
 @dataclass(frozen=True)
 class Params:
     """Parameters of ``crater``; each field's help and unit are in its metadata (``--help``)."""
 
-    fluid: str = field(default="air", metadata=_help(
+    fluid: str = field(default="air", metadata=describe(
         "crater fluid: air (ideal gas, p V = p_a V1) or liquid (incompressible, V = V1)", choices=FLUID_NAMES))
-    alpha: float = field(default=1.0, metadata=_help("crater aspect b/a, in (0, 1]", "1"))
-    beta: float = field(default=47.3 / 101.325, metadata=_help("mu / p_a, > 0", "1"))
-    preload: float = field(default=0.1, metadata=_help(
-        "eps = -dL/L, in [0, 0.9), or closure (the smallest eps with V1 = 0, eps_m; a crater still "
+    alpha: float = field(default=1.0, metadata=describe(
+        "crater aspect b/a (1: a hemisphere)", "1", bound=Bound(0.05, 1)))
+    beta: float = field(default=47.3 / 101.325, metadata=describe("mu / p_a", "1", bound=Bound(1e-2, 1e3)))
+    preload: float = field(default=0.1, metadata=describe(
+        "eps = -dL/L, or closure (the smallest eps with V1 = 0, eps_m; a crater still "
         "open at eps = 0.85 is reported as such and cycled from there)", "1",
-        words={"closure": PRELOAD_TO_CLOSURE}))
-    kappa_ratio: float = field(default=1e4, metadata=_help("bulk over shear modulus, in [10, 1e8]", "1"))
-    size_crater: float = field(default=0.06, metadata=_help("element size at the crater over a, > 0", "1"))
-    specimen_radius: float = field(default=12.70, metadata=_help("specimen radius Rs, > crater radius", "mm"))
-    specimen_height: float = field(default=35.13, metadata=_help("specimen height Hs, > 0", "mm"))
-    crater_radius: float = field(default=6.35, metadata=_help("crater base radius a, < Rs", "mm"))
-    strain_step: float = field(default=0.0125, metadata=_help(
-        "platen strain between checkpoints of both stages, in (0, 0.1] (failed steps are halved; every "
-        "run passes the same checkpoints); with --path fundamental, the largest arc-length step", "1"))
-    surface_energy: float = field(default=0.01, metadata=_help(
-        "gamma / (mu a) of the crater wall, in [0, 0.1] (physical PDMS: 7e-5): gives creases a length "
+        words={"closure": PRELOAD_TO_CLOSURE},
+        bound=Bound(0, 0.9, open_high=True, also=(PRELOAD_TO_CLOSURE,), spelled=("closure",))))
+    kappa_ratio: float = field(default=1e4, metadata=describe("bulk over shear modulus", "1", bound=Bound(10, 1e8)))
+    size_crater: float = field(default=0.06, metadata=describe(
+        "element size at the crater over a", "1", bound=Bound(3e-3, 0.5)))
+    specimen_radius: float = field(default=12.70, metadata=describe(
+        "specimen radius Rs, in (a, 50 a]", "mm", bound=Bound(1e-3, 1e4)))
+    specimen_height: float = field(default=35.13, metadata=describe(
+        "specimen height Hs, above the crater and at most 100 a", "mm", bound=Bound(1e-3, 1e4)))
+    crater_radius: float = field(default=6.35, metadata=describe(
+        "crater base radius a, < Rs", "mm", bound=Bound(1e-3, 1e4)))
+    strain_step: float = field(default=0.0125, metadata=describe(
+        "platen strain between checkpoints of both stages (failed steps are halved; every "
+        "run passes the same checkpoints); with --path fundamental, the largest arc-length step", "1",
+        bound=Bound(1e-3, 0.1)))
+    surface_energy: float = field(default=0.01, metadata=describe(
+        "gamma / (mu a) of the crater wall (physical PDMS: 7e-5): gives creases a length "
         "scale and acts as a surface stress; 0 is the unregularised model, whose creases are as fine as "
-        "the mesh (its effect on F_tilde: docs/results.md)", "1"))
-    layer_thickness: float = field(default=0.0, metadata=_help(
-        "reinforcement layer lining the crater, alpha' = t / a, 0 (none) or in (0, 0.5)", "1"))
-    layer_stiffness: float = field(default=1.0, metadata=_help(
-        "beta' = mu_layer / mu of the reinforcement, > 0", "1"))
-    self_contact: float = field(default=100.0, metadata=_help(
-        "penalty of the wall's self-contact over mu/L (L: node spacing on the wall), 0 (off) or in "
-        "[10, 1e4]; a state whose wall passes through itself deeper than L/4 is rejected", "1"))
-    waves: int = field(default=0, metadata=_help(
+        "the mesh (its effect on F_tilde: docs/results.md)", "1", bound=Bound(0, 0.1)))
+    layer_thickness: float = field(default=0.0, metadata=describe(
+        "reinforcement layer lining the crater, alpha' = t / a, 0: none", "1",
+        bound=Bound(5e-3, 0.5, open_high=True, also=(0.0,))))
+    layer_stiffness: float = field(default=1.0, metadata=describe(
+        "beta' = mu_layer / mu of the reinforcement", "1", bound=Bound(1e-2, 1e4)))
+    self_contact: float = field(default=100.0, metadata=describe(
+        "penalty of the wall's self-contact over mu/L (L: node spacing on the wall), 0: off; "
+        "a state whose wall passes through itself deeper than L/4 is rejected", "1",
+        bound=Bound(10, 1e4, also=(0.0,))))
+    waves: int = field(default=0, metadata=describe(
         "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step, "
-        "0 (off) to 400"))
-    path: str = field(default="stable", metadata=_help(
+        "0: off", bound=Bound(0, 400, integer=True)))
+    path: str = field(default="stable", metadata=describe(
         "stable: load stepping that passes each instability by pseudo-time relaxation and lands on "
         "a stable state; fundamental: the equilibrium branch connected to the rest state, traced by "
         "arc-length continuation in the platen displacement through its folds and unstable "
         "stretches (no relaxation), recording folds and the unstable modes at each point; it ends "
         "at the preload, at closure, at eps = 0.85, or where it cannot go on (reported)",
         choices=PATHS))
-    max_snaps: int = field(default=24, metadata=_help(
-        "snaps (steps passed by pseudo-time relaxation) allowed per stage, 0 to 1000; a path that "
-        "snaps more often fails (a deepening crease)"))
+    max_snaps: int = field(default=24, metadata=describe(
+        "snaps (steps passed by pseudo-time relaxation) allowed per stage; a path that "
+        "snaps more often fails (a deepening crease)", bound=Bound(0, 1000, integer=True)))
 
     #: solver budgets: they decide whether a path gets through, never where it goes, so a
     #: sweep reuses a solved point whatever its budget (and retries one that ran out)
     BUDGETS = ("max_snaps",)
 
     def __post_init__(self):
-        require(self.path in PATHS, f"path must be one of {list(PATHS)} (got {self.path!r})")
-        require(self.fluid in FLUID_NAMES, f"fluid must be one of {list(FLUID_NAMES)} (got {self.fluid!r})")
-        require(self.beta > 0 and math.isfinite(self.beta), f"beta must be > 0 (got {self.beta})")
-        require(self.preload == PRELOAD_TO_CLOSURE or 0 <= self.preload < 0.9,
-                f"preload must be in [0, 0.9) or 'closure' (got {self.preload})")
-        require(10 <= self.kappa_ratio <= 1e8, f"kappa-ratio must be in [10, 1e8] (got {self.kappa_ratio})")
-        require(0 <= self.surface_energy <= 0.1, f"surface-energy must be in [0, 0.1] (got {self.surface_energy})")
-        require(self.layer_thickness == 0 or 0 < self.layer_thickness < 0.5,
-                f"layer-thickness (t/a) must be 0 or in (0, 0.5) (got {self.layer_thickness})")
-        require(self.layer_stiffness > 0 and math.isfinite(self.layer_stiffness),
-                f"layer-stiffness (mu_layer/mu) must be > 0 (got {self.layer_stiffness})")
-        require(self.self_contact == 0 or 10 <= self.self_contact <= 1e4,
-                f"self-contact must be 0 (off) or in [10, 1e4] (got {self.self_contact})")
-        require(self.waves == int(self.waves) and 0 <= self.waves <= 400,
-                f"waves must be an integer in [0, 400] (got {self.waves})")
-        require(self.max_snaps == int(self.max_snaps) and 0 <= self.max_snaps <= 1000,
-                f"max-snaps must be an integer in [0, 1000] (got {self.max_snaps})")
-        require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
-        self.geometry()  # validates alpha, radii and sizes before any meshing
+        check_bounds(self)
+        require(self.path in PATHS, f"--path must be one of {list(PATHS)} (got {self.path!r})")
+        require(self.fluid in FLUID_NAMES, f"--fluid must be one of {list(FLUID_NAMES)} (got {self.fluid!r})")
+        a = self.crater_radius
+        require(a < self.specimen_radius,
+                f"--crater-radius must be < --specimen-radius = {self.specimen_radius:g} mm (got {a:g})")
+        depth = (self.alpha + self.layer_thickness) * a
+        require(depth < self.specimen_height,
+                f"--specimen-height must exceed the crater's depth b + t = {depth:g} mm (got {self.specimen_height:g})")
+        require(self.specimen_radius <= 50 * a,
+                f"--specimen-radius must be at most 50 crater radii (got {self.specimen_radius / a:g} a)")
+        require(self.specimen_height <= 100 * a,
+                f"--specimen-height must be at most 100 crater radii (got {self.specimen_height / a:g} a)")
+        with flags_named(self):
+            self.geometry()  # the crater inside the specimen: ValueError naming it, before any meshing
 
     def geometry(self) -> CraterGeometry:
         return CraterGeometry(radius=self.specimen_radius, height=self.specimen_height,

@@ -19,7 +19,7 @@ from bcfem.geometry.double_crater import (
     SPECIMEN_RADIUS,
     DoubleCraterGeometry,
 )
-from bcfem.params import require
+from bcfem.params import Bound, check_bounds, describe, flags_named, require
 
 SUMMARY = "double-chamber crater (a protuberance splits the cavity by contact): the suction cycle (ch. 9)"
 DESCRIPTION = """\
@@ -69,59 +69,65 @@ COLUMNS = ["stage", "eps", "chambers", "vapour", "p_c1_over_pa", "p_c2_over_pa",
            "F_tilde", "sidewall_gap", "fluid_law_residual"]
 
 
-def _help(text: str, unit: str = "1", choices=None) -> dict:
-    return {"help": text, "unit": unit, **({"choices": choices} if choices else {})}
-
-
 @dataclass(frozen=True)
 class Params:
     """Parameters of ``crater-double``; each field's help and unit are in its metadata (``--help``)."""
 
-    preload: float = field(default=0.14, metadata=_help("eps = -dL/L at the end of loading, in (0, 0.9)"))
-    fluid: str = field(default="air", metadata=_help(
+    preload: float = field(default=0.14, metadata=describe(
+        "eps = -dL/L at the end of loading", bound=Bound(0, 0.9, open_low=True, open_high=True)))
+    fluid: str = field(default="air", metadata=describe(
         "air (ideal gas, p V = const in each chamber) or liquid (incompressible, V = const)", "", FLUID_NAMES))
-    cavitation: float = field(default=0.023, metadata=_help(
-        "p_v / p_a, in (-inf, 1): a liquid chamber whose pressure falls to it cavitates and holds "
+    cavitation: float = field(default=0.023, metadata=describe(
+        "p_v / p_a: a liquid chamber whose pressure falls to it cavitates and holds "
         "it, its volume free, until the vapour collapses (0.023: water's vapour pressure at 20 C; "
-        "-inf: no cavitation); not used for air"))
-    seal: str = field(default="rest", metadata=_help(
+        "-inf: no cavitation); not used for air",
+        bound=Bound(-1e3, 1, open_high=True, also=(-math.inf,))))
+    seal: str = field(default="rest", metadata=describe(
         "when the crater is sealed: at rest (the dissertation) or at the preload (vented loading)", "", SEALS))
-    contact: str = field(default="separable", metadata=_help(
+    contact: str = field(default="separable", metadata=describe(
         "sidewall-protuberance contact: separable (the chambers merge where it opens) or bonded "
         "(the first touching points stay together, frictionless, as the dissertation's)", "", CONTACTS))
-    plate: str = field(default="sticking", metadata=_help(
+    plate: str = field(default="sticking", metadata=describe(
         "the bottom face on the plate: frictionless (slides) or sticking (no slip); the crater's "
         "walls on the plate slide either way", "", PLATES))
-    top: str = field(default="sliding", metadata=_help(
+    top: str = field(default="sliding", metadata=describe(
         "the top face on the platen: sliding (frictionless) or bonded (no slip: a specimen on a rigid "
         "backing)", "", TOPS))
-    cell: str = field(default="isolated", metadata=_help(
+    cell: str = field(default="isolated", metadata=describe(
         "the specimen's outer face: isolated (free) or array (on rollers: the axisymmetric cell of a "
         "laterally confined array of craters at spacing 2 x specimen-radius)", "", CELLS))
-    crater_radius: float = field(default=CRATER_RADIUS, metadata=_help("r0 / H, > R0 / H"))
-    protuberance_radius: float = field(default=PROTUBERANCE_RADIUS, metadata=_help(
+    crater_radius: float = field(default=CRATER_RADIUS, metadata=describe("r0 / H, > R0 / H", bound=Bound(0.05, 10)))
+    protuberance_radius: float = field(default=PROTUBERANCE_RADIUS, metadata=describe(
         "R0 / H, in ((1 - s/H) / 2, r0/H): the ball reaches the roof and leaves a gap to the "
-        "sidewall; 0: no protuberance (a plain cylindrical crater, one chamber)"))
-    gap: float = field(default=GAP, metadata=_help("s / H, the protuberance above the plate, in (0, 1)"))
-    specimen_radius: float = field(default=SPECIMEN_RADIUS, metadata=_help("specimen radius over r0, > 1"))
-    specimen_height: float = field(default=SPECIMEN_HEIGHT, metadata=_help("specimen height over H, > 1"))
-    beta: float = field(default=1.0, metadata=_help("mu / p_a, > 0"))
-    kappa_ratio: float = field(default=1e4, metadata=_help("bulk over shear modulus, in [10, 1e8]"))
-    size_wall: float = field(default=0.02, metadata=_help("element size on the walls over H, in (0, 0.25]"))
-    size_contact: float = field(default=0.005, metadata=_help(
-        "element size where the sidewall meets the protuberance and at the rims over H, in (0, size-wall]"))
-    surface_energy: float = field(default=0.01, metadata=_help(
-        "gamma / (mu r0) of the walls, in [0, 0.1]: gives the roof's fold onto the protuberance a "
-        "length scale"))
-    self_contact: float = field(default=100.0, metadata=_help(
-        "penalty of the walls' self-contact over mu/L (L: node spacing on the wall), in [10, 1e4]"))
-    strain_step: float = field(default=0.01, metadata=_help(
-        "platen strain between checkpoints, in (0, 0.1] (failed steps are halved)"))
-    max_snaps: int = field(default=24, metadata=_help(
-        "snaps (steps passed by pseudo-time relaxation) allowed per stage, 0 to 1000", ""))
-    waves: int = field(default=0, metadata=_help(
+        "sidewall; 0: no protuberance (a plain cylindrical crater, one chamber)",
+        bound=Bound(0.01, 10, also=(0.0,))))
+    gap: float = field(default=GAP, metadata=describe(
+        "s / H, the protuberance above the plate", bound=Bound(1e-3, 1, open_high=True)))
+    specimen_radius: float = field(default=SPECIMEN_RADIUS, metadata=describe(
+        "specimen radius over r0", bound=Bound(1, 50, open_low=True)))
+    specimen_height: float = field(default=SPECIMEN_HEIGHT, metadata=describe(
+        "specimen height over H", bound=Bound(1, 100, open_low=True)))
+    beta: float = field(default=1.0, metadata=describe("mu / p_a", bound=Bound(1e-2, 1e3)))
+    kappa_ratio: float = field(default=1e4, metadata=describe("bulk over shear modulus", bound=Bound(10, 1e8)))
+    size_wall: float = field(default=0.02, metadata=describe(
+        "element size on the walls over H", bound=Bound(5e-3, 0.25)))
+    size_contact: float = field(default=0.005, metadata=describe(
+        "element size where the sidewall meets the protuberance and at the rims over H, "
+        "at most --size-wall", bound=Bound(1e-3, 0.25)))
+    surface_energy: float = field(default=0.01, metadata=describe(
+        "gamma / (mu r0) of the walls: gives the roof's fold onto the protuberance a "
+        "length scale", bound=Bound(0, 0.1)))
+    self_contact: float = field(default=100.0, metadata=describe(
+        "penalty of the walls' self-contact over mu/L (L: node spacing on the wall); the chambers "
+        "split by it", bound=Bound(10, 1e4)))
+    strain_step: float = field(default=0.01, metadata=describe(
+        "platen strain between checkpoints (failed steps are halved)", bound=Bound(1e-3, 0.1)))
+    max_snaps: int = field(default=24, metadata=describe(
+        "snaps (steps passed by pseudo-time relaxation) allowed per stage", "",
+        bound=Bound(0, 1000, integer=True)))
+    waves: int = field(default=0, metadata=describe(
         "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step, "
-        "0 (off) to 400", ""))
+        "0: off", "", bound=Bound(0, 400, integer=True)))
 
     #: no lining (the crater model's reinforcement layer)
     layer_thickness: ClassVar[float] = 0.0
@@ -129,27 +135,15 @@ class Params:
     BUDGETS: ClassVar[tuple] = ("max_snaps",)
 
     def __post_init__(self):
-        require(0 < self.preload < 0.9, f"preload must be in (0, 0.9) (got {self.preload})")
+        check_bounds(self)
         for name, choices in (("fluid", FLUID_NAMES), ("seal", SEALS), ("contact", CONTACTS),
                               ("plate", PLATES), ("top", TOPS), ("cell", CELLS)):
-            require(getattr(self, name) in choices, f"{name} must be one of {list(choices)} "
+            require(getattr(self, name) in choices, f"--{name} must be one of {list(choices)} "
                     f"(got {getattr(self, name)!r})")
-        require(not math.isnan(self.cavitation) and self.cavitation < 1,
-                f"cavitation must be in (-inf, 1) (got {self.cavitation})")
-        require(self.beta > 0 and math.isfinite(self.beta), f"beta must be > 0 (got {self.beta})")
-        require(10 <= self.kappa_ratio <= 1e8, f"kappa-ratio must be in [10, 1e8] (got {self.kappa_ratio})")
-        require(0 <= self.surface_energy <= 0.1, f"surface-energy must be in [0, 0.1] (got {self.surface_energy})")
-        require(10 <= self.self_contact <= 1e4, f"self-contact must be in [10, 1e4] (got {self.self_contact}): "
-                "the chambers split by it")
-        require(0 < self.size_wall <= 0.25, f"size-wall must be in (0, 0.25] (got {self.size_wall})")
-        require(0 < self.strain_step <= 0.1, f"strain-step must be in (0, 0.1] (got {self.strain_step})")
-        require(self.max_snaps == int(self.max_snaps) and 0 <= self.max_snaps <= 1000,
-                f"max-snaps must be an integer in [0, 1000] (got {self.max_snaps})")
-        require(self.waves == int(self.waves) and 0 <= self.waves <= 400,
-                f"waves must be an integer in [0, 400] (got {self.waves})")
-        require(self.specimen_radius > 1, f"specimen-radius (over r0) must be > 1 (got {self.specimen_radius})")
-        require(self.specimen_height > 1, f"specimen-height (over H) must be > 1 (got {self.specimen_height})")
-        self.geometry()  # a protuberance that does not fit, s <= 0, R0 >= r0: ValueError naming it
+        require(self.size_contact <= self.size_wall,
+                f"--size-contact must be at most --size-wall = {self.size_wall:g} (got {self.size_contact:g})")
+        with flags_named(self):
+            self.geometry()  # a protuberance that does not fit, R0 >= r0: ValueError naming it
 
     def geometry(self) -> DoubleCraterGeometry:
         return DoubleCraterGeometry(crater_height=1.0, crater_radius=self.crater_radius,

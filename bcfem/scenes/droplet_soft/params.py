@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass, field
 
 from bcfem.geometry.substrate import SubstrateGeometry
-from bcfem.params import require
+from bcfem.params import Bound, check_bounds, check_meshable, describe, flags_named, require
 
 SUMMARY = "liquid drop on a soft substrate: the wetting ridge, linear and neo-Hookean (ch. 5)"
 DESCRIPTION = """\
@@ -48,47 +48,47 @@ COLUMNS = ["load", "gamma_l", "ridge_height", "ridge_height_normalised", "tip_r"
            "laplace_pressure", "newton_iterations"]
 
 
-def _help(text: str, unit: str = "1", choices=None) -> dict:
-    return {"help": text, "unit": unit, **({"choices": choices} if choices else {})}
-
-
 @dataclass(frozen=True)
 class Params:
     """Parameters of ``droplet-soft``; each field's help is in its metadata (``--help``)."""
 
-    model: str = field(default="linear", metadata=_help(
+    model: str = field(default="linear", metadata=describe(
         "linear (small strain, any nu) or neo-hookean (finite strain, nearly incompressible)", "",
         MODELS))
-    gamma_s: float = field(default=0.1, metadata=_help("gamma_s/(mu R0), the dry solid's tension, >= 0"))
-    gamma_l: float = field(default=0.1, metadata=_help("gamma_l/(mu R0), the liquid's tension, > 0"))
-    gamma_ls: float = field(default=0.1, metadata=_help(
-        "gamma_ls/(mu R0), the wetted solid's tension, >= 0, |gamma_s - gamma_ls| <= gamma_l (Young)"))
-    cap_angle: float = field(default=0.0, metadata=_help(
-        "the drop's angle at rest [deg], in (0, 180), setting its volume (and the linear loads' angle); "
-        "0 for Young's angle from the tensions", ""))
-    nu: float = field(default=0.5, metadata=_help("Poisson ratio of the linear model, in (-1, 0.5]"))
-    thickness: float = field(default=0.0, metadata=_help(
-        "h/R0 of a layer on a rigid base, > 0; 0 for a half-space stand-in (a block width x width)"))
-    width: float = field(default=40.0, metadata=_help(
-        "L: the block's radius (and a half-space's depth) over R0, > 1"))
-    size_contact: float = field(default=2e-3, metadata=_help(
-        "element size at the contact line over R0, in [1e-4, 0.1]"))
-    growth: float = field(default=1.3, metadata=_help("size ratio of neighbouring elements, in (1, 2]"))
-    refine: int = field(default=0, metadata=_help("halve every element size this often, 0 to 6"))
-    degree: int = field(default=2, metadata=_help("displacement degree, 2 or 3 (pressure: degree - 1)"))
-    contact_force: str = field(default="liquid", metadata=_help(
+    gamma_s: float = field(default=0.1, metadata=describe(
+        "gamma_s/(mu R0), the dry solid's tension", bound=Bound(0, 1e3)))
+    gamma_l: float = field(default=0.1, metadata=describe(
+        "gamma_l/(mu R0), the liquid's tension", bound=Bound(0, 1e3, open_low=True)))
+    gamma_ls: float = field(default=0.1, metadata=describe(
+        "gamma_ls/(mu R0), the wetted solid's tension, |gamma_s - gamma_ls| <= gamma_l (Young)", bound=Bound(0, 1e3)))
+    cap_angle: float = field(default=0.0, metadata=describe(
+        "the drop's angle at rest, setting its volume (and the linear loads' angle); "
+        "0 for Young's angle from the tensions", "deg", bound=Bound(1, 179, also=(0.0,))))
+    nu: float = field(default=0.5, metadata=describe(
+        "Poisson ratio of the linear model", bound=Bound(-1, 0.5, open_low=True)))
+    thickness: float = field(default=0.0, metadata=describe(
+        "h/R0 of a layer on a rigid base; 0 for a half-space stand-in (a block width x width)",
+        bound=Bound(1e-3, 1e3, also=(0.0,))))
+    width: float = field(default=40.0, metadata=describe(
+        "L: the block's radius (and a half-space's depth) over R0", bound=Bound(1, 1e3, open_low=True)))
+    size_contact: float = field(default=2e-3, metadata=describe(
+        "element size at the contact line over R0", bound=Bound(1e-4, 0.1)))
+    growth: float = field(default=1.3, metadata=describe(
+        "size ratio of neighbouring elements", bound=Bound(1, 2, open_low=True)))
+    refine: int = field(default=0, metadata=describe(
+        "halve every element size this often", bound=Bound(0, 6, integer=True)))
+    degree: int = field(default=2, metadata=describe(
+        "displacement degree (pressure: degree - 1)", bound=Bound(2, 3, integer=True)))
+    contact_force: str = field(default="liquid", metadata=describe(
         "linear model's tangential line force: liquid (gamma_l cos theta, eq. 5.22) or balanced (0)", "",
         CONTACT_FORCES))
-    kappa: float = field(default=1e4, metadata=_help("neo-Hookean bulk over shear modulus, in [10, 1e8]"))
-    load_step: float = field(default=0.05, metadata=_help(
-        "neo-Hookean: first step of the tension ramp (load from 0 to 1), in (0, 1]"))
+    kappa: float = field(default=1e4, metadata=describe("neo-Hookean bulk over shear modulus", bound=Bound(10, 1e8)))
+    load_step: float = field(default=0.05, metadata=describe(
+        "neo-Hookean: first step of the tension ramp (load from 0 to 1)", bound=Bound(1e-4, 1)))
 
     def __post_init__(self):
-        require(self.model in MODELS, f"model must be one of {list(MODELS)} (got {self.model!r})")
-        for name in ("gamma_s", "gamma_ls"):
-            value = getattr(self, name)
-            require(value >= 0 and math.isfinite(value), f"{name.replace('_', '-')} must be >= 0 (got {value})")
-        require(self.gamma_l > 0 and math.isfinite(self.gamma_l), f"gamma-l must be > 0 (got {self.gamma_l})")
+        check_bounds(self)
+        require(self.model in MODELS, f"--model must be one of {list(MODELS)} (got {self.model!r})")
         require(abs(self.gamma_s - self.gamma_ls) <= self.gamma_l,
                 f"|gamma-s - gamma-ls| must be <= gamma-l for a Young angle (got {self.gamma_s}, "
                 f"{self.gamma_ls}, {self.gamma_l})")
@@ -96,21 +96,11 @@ class Params:
             require(self.gamma_l <= self.gamma_s + self.gamma_ls,
                     f"gamma-l must be <= gamma-s + gamma-ls for Neumann's triangle (got {self.gamma_l}, "
                     f"{self.gamma_s}, {self.gamma_ls})")
-        require(self.cap_angle == 0 or 0 < self.cap_angle < 180,
-                f"cap-angle must be 0 (Young's) or in (0, 180) degrees (got {self.cap_angle})")
-        require(-1 < self.nu <= 0.5, f"nu must be in (-1, 0.5] (got {self.nu})")
-        require(self.thickness >= 0 and math.isfinite(self.thickness),
-                f"thickness (h/R0) must be >= 0, 0 for a half-space (got {self.thickness})")
-        require(self.width > 1 and math.isfinite(self.width), f"width must be > 1 (got {self.width})")
-        require(1e-4 <= self.size_contact <= 0.1, f"size-contact must be in [1e-4, 0.1] (got {self.size_contact})")
-        require(self.refine == int(self.refine) and 0 <= self.refine <= 6,
-                f"refine must be an integer in [0, 6] (got {self.refine})")
-        require(self.degree in (2, 3), f"degree must be 2 or 3 (got {self.degree})")
         require(self.contact_force in CONTACT_FORCES,
-                f"contact-force must be one of {list(CONTACT_FORCES)} (got {self.contact_force!r})")
-        require(10 <= self.kappa <= 1e8, f"kappa must be in [10, 1e8] (got {self.kappa})")
-        require(0 < self.load_step <= 1, f"load-step must be in (0, 1] (got {self.load_step})")
-        self.geometry()  # validates the sizes before any meshing
+                f"--contact-force must be one of {list(CONTACT_FORCES)} (got {self.contact_force!r})")
+        with flags_named(self):
+            geometry = self.geometry()  # the sizes, before any meshing
+        check_meshable(geometry.estimated_cells(), "--size-contact, --growth, --refine, --width and --thickness")
 
     @property
     def young_angle(self) -> float:
