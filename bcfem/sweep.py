@@ -225,28 +225,48 @@ def _computed(rows, panels):
     return [p for p in panels if any(r.get(p[0]) is not None for r in rows)] or panels
 
 
+#: panels per row of a sweep's figure: more wrap onto further rows
+PANEL_COLUMNS = 4
+
+
+def _panel_grid(plt, count: int, width: float, height: float):
+    """A figure of ``count`` panels (each ``width`` x ``height`` inches) in rows of at most
+    PANEL_COLUMNS, and its panels in reading order; the cells left over are hidden."""
+    lines = -(-count // PANEL_COLUMNS)
+    columns = -(-count // lines)  # balanced: 9 panels as 3 x 3, not 4 + 4 + 1
+    fig, axes = plt.subplots(lines, columns, figsize=(width * columns, height * lines), squeeze=False)
+    axes = axes.ravel()
+    for ax in axes[count:]:
+        ax.set_visible(False)
+    return fig, list(axes[:count])
+
+
 def contour_maps(rows, x: str, y: str, panels: list[tuple[str, str]], title: str, path, comm):
     """One filled contour per (column, label) over the (x, y) grid; failed points are blank."""
     if comm.rank != 0:
         return
+    import textwrap
+
     from bcfem.plots import pyplot
 
     plt = pyplot()
     panels = _computed(rows, panels)
     xs = sorted({r[x] for r in rows})
     ys = sorted({r[y] for r in rows})
-    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.6))
-    for ax, (column, label) in zip(np.atleast_1d(axes), panels):
+    fig, axes = _panel_grid(plt, len(panels), 4.2, 3.6)
+    for ax, (column, label) in zip(axes, panels):
         Z = np.full((len(ys), len(xs)), np.nan)
         for r in rows:
             value = r.get(column)
             if r["status"] == "ok" and value is not None:
                 Z[ys.index(r[y]), xs.index(r[x])] = value
-        ax.set_title(label, fontsize=9)
+        ax.set_title(textwrap.fill(label, 44), fontsize=9)
         ax.set_xlabel(x)
         ax.set_ylabel(y)
-        if np.isnan(Z).all():
-            ax.text(0.5, 0.5, "no converged point", ha="center", va="center", transform=ax.transAxes)
+        if np.isnan(Z).all() or np.nanmin(Z) == np.nanmax(Z):  # no contours to draw
+            note = "no converged point" if np.isnan(Z).all() else f"{np.nanmin(Z):.6g} at every point"
+            ax.set(xlim=(xs[0], xs[-1]), ylim=(ys[0], ys[-1]))
+            ax.text(0.5, 0.5, note, ha="center", va="center", transform=ax.transAxes)
             continue
         cs = ax.contourf(xs, ys, Z, levels=14, cmap="viridis")
         ax.contour(xs, ys, Z, levels=cs.levels, colors="k", linewidths=0.3)
@@ -260,16 +280,18 @@ def curves(rows, x: str, panels: list[tuple[str, str]], title: str, path, comm):
     """One panel per (column, label) against the single grid axis; failed points are gaps."""
     if comm.rank != 0:
         return
+    import textwrap
+
     from bcfem.plots import pyplot
 
     plt = pyplot()
     panels = _computed(rows, panels)
-    fig, axes = plt.subplots(1, len(panels), figsize=(3.4 * len(panels), 3.2))
+    fig, axes = _panel_grid(plt, len(panels), 3.4, 3.2)
     xs = [r[x] for r in rows]
-    for ax, (column, label) in zip(np.atleast_1d(axes), panels):
+    for ax, (column, label) in zip(axes, panels):
         ax.plot(xs, [r.get(column) if r["status"] == "ok" else np.nan for r in rows], "-o", ms=3)
         ax.set_xlabel(x)
-        ax.set_ylabel(label)
+        ax.set_ylabel(textwrap.fill(label, 32), fontsize=9)
         ax.grid(alpha=0.3)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
