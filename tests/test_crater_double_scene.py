@@ -22,6 +22,7 @@ import sys
 from mpi4py import MPI
 
 import pytest
+from helpers import same_loads
 
 from bcfem.scenes import crater, crater_double
 from bcfem.scenes.crater.model import Crater
@@ -139,13 +140,23 @@ def test_two_ranks_equal_serial(case):
     params = {"air": CELL, "cavitation": {**CELL, "fluid": "liquid", "seal": "preload"}, "plain": PLAIN}[case]
     rows, summary = crater_double.solve(crater_double.Params(**params), MPI.COMM_WORLD)
     reference, reference_summary = crater_double.solve(crater_double.Params(**params), MPI.COMM_SELF)
-    assert [r["chambers"] for r in rows] == [r["chambers"] for r in reference]
-    for event in ("split", "merge", "cavitation"):
-        assert (summary[event] or {}).get("eps") == (reference_summary[event] or {}).get("eps")
+    for event in ("split", "merge", "cavitation"):  # located to the bisection's bracket
+        mine, theirs = summary[event], reference_summary[event]
+        assert (mine is None) == (theirs is None), event
+        if mine is not None:
+            assert abs(mine["eps"] - theirs["eps"]) <= max(mine["bracket"], theirs["bracket"]), event
     if case == "cavitation":
         assert summary["cavitation"] is not None and summary["p_c1_over_pa"] == pytest.approx(0.023, abs=1e-12)
-    for key in ("p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "F_tilde"):
-        assert [r[key] for r in rows] == pytest.approx([r[key] for r in reference], rel=1e-8, abs=1e-10)
+    # the states at the same strain: every checkpoint, and the events' where the bisections agree
+    # (a cut step, or a bisection's side, may differ where round-off decides a Newton solve)
+    pairs = same_loads(rows, reference, "eps")
+    step, preload = params["strain_step"], params["preload"]
+    declared = {(r["stage"], r["eps"]) for r in reference if r["eps"] == preload or round(r["eps"] / step, 9) % 1 == 0}
+    assert declared <= {(ref["stage"], ref["eps"]) for _, ref in pairs}
+    for r, ref in pairs:
+        assert r["chambers"] == ref["chambers"]
+        for key in ("p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "F_tilde"):
+            assert r[key] == pytest.approx(ref[key], rel=1e-8, abs=1e-10), key
 
 
 @functools.cache
