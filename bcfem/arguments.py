@@ -26,7 +26,7 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message):
         message = message.replace("argument ", "", 1) if message.startswith("argument ") else message
-        self.exit(2, f"{self.prog}: error: {message} ({self.prog} --help lists every flag)\n")
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
 def _float(text: str) -> float:
@@ -162,13 +162,49 @@ def build_parser():
     return parser
 
 
+def _negative_values_attached(argv: list[str]) -> list[str]:
+    """``--adhesion -1e4`` as ``--adhesion=-1e4``: argparse takes only ``-1`` and ``-.5`` for
+    negative numbers, and ``-1e4`` or ``-inf`` for a flag."""
+    out = []
+    for token in argv:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and token.startswith("-") and _number(token):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
+def parse(parser, argv: list[str]) -> argparse.Namespace:
+    """``parser.parse_args(argv)``, but an unknown flag is reported by its scene's parser, in one
+    line, with the nearest flag of that scene (``--size_contact``: did you mean --size-contact?)."""
+    import difflib
+
+    args, unknown = parser.parse_known_args(_negative_values_attached(argv))
+    if unknown:
+        scene = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        scene = scene.choices[args.command]
+        scene = next(a for a in scene._actions if isinstance(a, argparse._SubParsersAction)).choices[args.scene]
+        flags = [o for a in scene._actions for o in a.option_strings]
+        near = difflib.get_close_matches(unknown[0].replace("_", "-"), flags, n=1)
+        scene.error(f"unrecognized argument {unknown[0]}" + (f": did you mean {near[0]}?" if near else ""))
+    return args
+
+
+def _number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def split_petsc(argv: list[str]) -> tuple[list[str], list[str]]:
     """Separate ``-key [value]`` PETSc options from bcfem's ``--options``."""
     ours, petsc = [], []
     i = 0
     while i < len(argv):
         a = argv[i]
-        if a.startswith("-") and not a.startswith("--") and len(a) > 2 and a[1].isalpha():
+        if a.startswith("-") and not a.startswith("--") and len(a) > 2 and a[1].isalpha() and not _number(a):
             petsc.append(a)
             if i + 1 < len(argv) and not argv[i + 1].startswith("-"):
                 petsc.append(argv[i + 1])

@@ -14,14 +14,14 @@ import sys
 
 from mpi4py import MPI
 
-from bcfem.arguments import AxisSpec, build_parser, split_petsc
+from bcfem.arguments import AxisSpec, build_parser, parse, split_petsc
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     ours, petsc = split_petsc(argv)
     parser = build_parser()
-    args = parser.parse_args(ours)
+    args = parse(parser, ours)
     from bcfem.scenes import REGISTRY
 
     module = REGISTRY[args.scene]

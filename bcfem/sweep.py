@@ -22,6 +22,7 @@ import dataclasses
 import itertools
 import json
 import logging
+import math
 import os
 import shutil
 import time
@@ -38,26 +39,36 @@ from bcfem.log import logger
 RECORD_ONLY = {"budgets", "solve_time_s"}
 
 
+#: the most points one sweep may hold
+MAX_POINTS = 10_000
+
+
 def parse_axis(text: str) -> tuple[str, np.ndarray | list]:
     """``name=start:stop:count`` (inclusive, linear) or ``name=v1,v2,...`` (numbers, or the
     words of a choice such as ``contact=separable,bonded``)."""
     if "=" not in text:
-        raise ValueError(f"a grid axis is name=start:stop:count or name=v1,v2,... (got {text!r})")
+        raise ValueError(f"--grid {text}: an axis is NAME=START:STOP:COUNT or NAME=V1,V2,...")
     name, spec = text.split("=", 1)
     name = name.strip().replace("-", "_")
     if ":" in spec:
         parts = spec.split(":")
-        if len(parts) != 3:
-            raise ValueError(f"grid {name}: need start:stop:count (got {spec!r})")
-        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-        if count < 1:
-            raise ValueError(f"grid {name}: count must be >= 1 (got {count})")
+        try:
+            start, stop = float(parts[0]), float(parts[1])
+            count = int(parts[2]) if len(parts) == 3 else None
+        except ValueError:
+            count = None
+        if count is None:
+            raise ValueError(f"--grid {text}: need START:STOP:COUNT, two numbers and a whole number")
+        if not 1 <= count <= MAX_POINTS:
+            raise ValueError(f"--grid {text}: the count must be in [1, {MAX_POINTS}] (got {count})")
         return name, np.linspace(start, stop, count)
     values = [v.strip() for v in spec.split(",")]
+    if "" in values:
+        raise ValueError(f"--grid {text}: an empty value")
     try:
         return name, np.array([float(v) for v in values])
     except ValueError:
-        return name, values
+        return name, values  # words, or numbers among named values (preload=closure,0.1)
 
 
 def parse_range(name: str, spec: str) -> np.ndarray:
@@ -65,12 +76,17 @@ def parse_range(name: str, spec: str) -> np.ndarray:
     try:
         start, stop, step = (float(v) for v in spec.split(":"))
     except ValueError:
-        raise ValueError(f"{name}: need start:stop:step (got {spec!r})") from None
-    if step <= 0 or stop < start:
-        raise ValueError(f"{name}: need step > 0 and stop >= start (got {spec!r})")
-    count = round((stop - start) / step)
+        raise ValueError(f"--{name.replace('_', '-')} {spec}: need start:stop:step") from None
+    if not (math.isfinite(start) and math.isfinite(stop) and step > 0 and stop >= start):
+        raise ValueError(f"--{name.replace('_', '-')} {spec}: need finite ends, step > 0 and stop >= start")
+    count = (stop - start) / step
+    if not count < MAX_POINTS:  # also an overflow to inf
+        raise ValueError(f"--{name.replace('_', '-')} {spec}: more than {MAX_POINTS} values")
+    count = round(count)
+    if count + 1 > MAX_POINTS:
+        raise ValueError(f"--{name.replace('_', '-')} {spec}: {count + 1} values, more than {MAX_POINTS}")
     if abs(start + count * step - stop) > 1e-9 * max(1.0, abs(stop)):
-        raise ValueError(f"{name}: the steps of {step:g} from {start:g} miss {stop:g}")
+        raise ValueError(f"--{name.replace('_', '-')} {spec}: the steps of {step:g} from {start:g} miss {stop:g}")
     return start + step * np.arange(count + 1)
 
 
@@ -89,20 +105,49 @@ def point_key(values: dict, params=None) -> str:
     return f"{key}_{digest}"
 
 
+def _numbers(base, name: str, values):
+    """An axis of words for a numeric field as numbers: each a number or one of the field's named
+    values (``preload=closure,0.1``)."""
+    field = next((f for f in dataclasses.fields(base) if f.name == name), None)
+    if not isinstance(values, list) or field is None or isinstance(getattr(base, name), str):
+        return values
+    words = field.metadata.get("words", {})
+    numbers = []
+    for v in values:
+        try:
+            numbers.append(words[v] if v in words else float(v))
+        except ValueError:
+            names = f" nor one of {', '.join(words)}" if words else ""
+            raise ValueError(f"--grid {name}: {v!r} is not a number{names}") from None
+    return np.array(numbers)
+
+
 def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
     """Every combination of the axes, as validated parameter sets (validation happens here,
     before any solve, so a bad grid fails at once)."""
     names = [a[0] for a in axes]
-    fields = {f.name for f in dataclasses.fields(base)}
-    for name in names:
+    fields = {f.name: getattr(base, f.name) for f in dataclasses.fields(base)}
+    for name, values in axes:
         if name not in fields:
-            raise ValueError(f"grid parameter {name!r} is not a parameter of the scene")
+            raise ValueError(f"--grid {name}: not a parameter of the scene")
+        if names.count(name) > 1:
+            raise ValueError(f"--grid {name}: the axis is given twice")
+    axes = [(name, _numbers(base, name, values)) for name, values in axes]
+    for name, values in axes:
+        if isinstance(fields[name], str) != isinstance(values, list):
+            kind = "words" if isinstance(fields[name], str) else "numbers"
+            raise ValueError(f"--grid {name}: takes {kind} (got {', '.join(map(str, values))})")
+    total = math.prod(len(a[1]) for a in axes)
+    if total > MAX_POINTS:
+        raise ValueError(f"--grid: {total} points, more than {MAX_POINTS}")
     points = []
     for combo in itertools.product(*(a[1] for a in axes)):
         values = dict(zip(names, (v if isinstance(v, str) else float(v) for v in combo)))
-        points.append((values, dataclasses.replace(base, **values)))
+        try:
+            points.append((values, dataclasses.replace(base, **values)))
+        except ValueError as err:
+            raise ValueError(f"--grid point {point_key(values)}: {err}") from None
     return points
-
 
 def _budgets(params) -> dict:
     return {k: getattr(params, k) for k in getattr(params, "BUDGETS", ())}
