@@ -23,7 +23,7 @@ test: venv
 # everything: adds full crater cycles, convergence studies and the demos (serial and on NP ranks)
 test-all: venv
 	$(BIN)/ruff check .
-	$(PYTEST) -m "" --durations=20 tests
+	BCFEM_FULL_DRAW=1 $(PYTEST) -m "" --durations=20 tests
 	$(MPI_PYTEST) -m "mpi" tests
 
 DEMOS := $(filter-out _%,$(basename $(notdir $(wildcard demos/*.py))))

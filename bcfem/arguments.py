@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import functools
 import math
 from pathlib import Path
 
@@ -110,6 +111,7 @@ def _words_or(words: dict, convert):
     return parse
 
 
+@functools.cache  # one parser per process: building it takes 50 ms
 def build_parser():
     from bcfem.scenes import REGISTRY
 

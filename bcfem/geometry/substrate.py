@@ -119,7 +119,7 @@ class SubstrateGeometry:
         h_min = float(self.element_size(0.0))
 
         def graded(low, high, centre):
-            steps = np.geomspace(h_min / 10, max(high - low, h_min), 400)
+            steps = np.geomspace(h_min / 10, max(high - low, h_min), 120)
             return np.unique(np.clip(np.concatenate([[low, high, centre], centre - steps, centre + steps]), low, high))
 
         r = graded(0.0, self.width, self.contact_radius)

@@ -90,11 +90,11 @@ class Params:
         check_bounds(self)
         require(self.model in MODELS, f"--model must be one of {list(MODELS)} (got {self.model!r})")
         require(abs(self.gamma_s - self.gamma_ls) <= self.gamma_l,
-                f"|gamma-s - gamma-ls| must be <= gamma-l for a Young angle (got {self.gamma_s}, "
-                f"{self.gamma_ls}, {self.gamma_l})")
+                f"--gamma-s, --gamma-ls, --gamma-l: need |gamma_s - gamma_ls| <= gamma_l for a Young angle "
+                f"(got {self.gamma_s}, {self.gamma_ls}, {self.gamma_l})")
         if self.model == "neo-hookean":
             require(self.gamma_l <= self.gamma_s + self.gamma_ls,
-                    f"gamma-l must be <= gamma-s + gamma-ls for Neumann's triangle (got {self.gamma_l}, "
+                    f"--gamma-l must be <= --gamma-s + --gamma-ls for Neumann's triangle (got {self.gamma_l}, "
                     f"{self.gamma_s}, {self.gamma_ls})")
         require(self.contact_force in CONTACT_FORCES,
                 f"--contact-force must be one of {list(CONTACT_FORCES)} (got {self.contact_force!r})")
