@@ -1,18 +1,43 @@
 """Results on disk: one directory per run, written by rank 0, atomically.
 
-CSV, JSON and PNG files are written to a temporary name and renamed, so a
+CSV, JSON and PNG files are written to a temporary name of their own and renamed, so a
 reader never sees half a file. The VTX (ADIOS2) field file is written
-collectively into a temporary directory that is renamed at close.
+collectively into a temporary directory that is renamed at close. :func:`recording`
+collects the paths written, for a run's list of its files.
+
+JSON is strict (no ``Infinity`` or ``NaN``, which strict parsers reject): a non-finite
+float is written as ``"inf"`` or ``"-inf"`` (read back as floats by :func:`read_json`),
+and NaN as ``null``.
 """
 
 from __future__ import annotations
 
 import csv
 import json
+import math
 import os
 import shutil
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
+
+_recorders: list[list[Path]] = []
+
+
+@contextmanager
+def recording():
+    """The paths written (by this rank) inside, as a list filled in as they are written."""
+    written: list[Path] = []
+    _recorders.append(written)
+    try:
+        yield written
+    finally:
+        _recorders.remove(written)
+
+
+def _record(path: Path) -> None:
+    for written in _recorders:
+        written.append(path)
 
 
 def _umask() -> int:
@@ -32,6 +57,7 @@ def _atomic_write(path: Path, write) -> None:
     except BaseException:
         os.unlink(tmp)
         raise
+    _record(path)
 
 
 def write_csv(path, rows: list[dict], comm, columns: list[str] | None = None) -> None:
@@ -62,18 +88,42 @@ def read_csv(path) -> list[dict]:
 
 
 def write_json(path, data: dict, comm) -> None:
-    """Write ``data`` as indented JSON on rank 0."""
+    """Write ``data`` as indented, strict JSON on rank 0 (see the module's note)."""
     if comm.rank != 0:
         return
-    _atomic_write(Path(path), lambda f: json.dump(data, f, indent=2, default=_jsonable))
+    text = json.dumps(strict(data), indent=2, allow_nan=False)  # a regression fails here, loudly
+    _atomic_write(Path(path), lambda f: f.write(text))
 
 
-def _jsonable(obj):
-    if hasattr(obj, "item"):
-        return obj.item()
+def strict(obj):
+    """``obj`` with non-finite floats as ``"inf"``, ``"-inf"`` or None, numpy scalars and
+    arrays as Python's, and paths as strings."""
+    if isinstance(obj, dict):
+        return {k: strict(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [strict(v) for v in obj]
     if isinstance(obj, Path):
         return str(obj)
-    raise TypeError(f"not JSON serialisable: {type(obj)}")
+    if hasattr(obj, "tolist"):  # numpy
+        return strict(obj.tolist())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None if math.isnan(obj) else ("inf" if obj > 0 else "-inf")
+    return obj
+
+
+def read_json(path):
+    """Read a bcfem JSON file back: ``"inf"`` and ``"-inf"`` as floats again."""
+    return _floats(json.loads(Path(path).read_text()))
+
+
+def _floats(obj):
+    if isinstance(obj, dict):
+        return {k: _floats(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_floats(v) for v in obj]
+    if obj in ("inf", "-inf"):
+        return float(obj)
+    return obj
 
 
 def save_figure(fig, path, comm) -> None:
@@ -82,15 +132,21 @@ def save_figure(fig, path, comm) -> None:
         return
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")
-    fig.savefig(tmp, dpi=150, bbox_inches="tight")
-    os.replace(tmp, path)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        fig.savefig(tmp, dpi=150, bbox_inches="tight")
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    _record(path)
 
 
 class FieldWriter:
     """VTX (ADIOS2) output of fields along the branch, for ParaView.
 
-    Writes into ``<name>.tmp.bp`` and renames it to ``<name>.bp`` on close.
+    Writes into ``.<name>.<rank 0's pid>.tmp.bp`` (one run's own) and renames it to
+    ``<name>.bp`` on close.
     """
 
     def __init__(self, comm, path, functions):
@@ -98,7 +154,8 @@ class FieldWriter:
 
         self.comm = comm
         self.path = Path(path)
-        self.tmp = self.path.with_name(self.path.stem + ".tmp.bp")
+        pid = comm.bcast(os.getpid() if comm.rank == 0 else None)
+        self.tmp = self.path.with_name(f".{self.path.stem}.{pid}.tmp.bp")
         if comm.rank == 0 and self.tmp.exists():
             shutil.rmtree(self.tmp)
         comm.barrier()
@@ -114,4 +171,5 @@ class FieldWriter:
             if self.path.exists():
                 shutil.rmtree(self.path)
             os.replace(self.tmp, self.path)
+            _record(self.path)
         self.comm.barrier()
