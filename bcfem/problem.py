@@ -18,7 +18,7 @@ import ufl
 from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assign
 
-from bcfem import options, petsc_events
+from bcfem import interrupt, options, petsc_events
 from bcfem.algebra import ConvergedAlgebra
 from bcfem.assembly import Assembly
 from bcfem.newton_cycles import RepeatedIterates
@@ -127,6 +127,8 @@ class Problem(ConvergedAlgebra):
         ``snes_divergence_tolerance`` (-3, PETSC_UNLIMITED: off) times the solve's first is reported as NaN, so the
         solve stops (DIVERGED_FNORM_NAN) or the line search backs off, rather than iterating
         to ``snes_max_it`` on a diverging path."""
+        if interrupt.requested():  # end the solve at once (check() then stops the run)
+            f.set(np.nan)
         norm = f.norm()
         if self._first_norm is None:
             self._first_norm = norm
@@ -267,7 +269,8 @@ class Problem(ConvergedAlgebra):
         assembled = self.timings["assembly"] + self.timings["discrete_terms"]
         solver = petsc_events.seconds()
         try:
-            self.snes.solve(None, x)
+            with interrupt.deferred():  # a raise in a callback would be a failed solve
+                self.snes.solve(None, x)
             self.reason = self.snes.getConvergedReason()
         except PETSc.Error:
             self.reason = -100  # e.g. a NaN pivot from an inverted iterate
@@ -277,6 +280,7 @@ class Problem(ConvergedAlgebra):
             assembled += seconds - solver[part]
         self.timings["newton"] += perf_counter() - t0 - assembled
         self.iterations = self.snes.getIterationNumber()
+        interrupt.check(self.comm)  # a signal is no failed solve: every rank stops here
 
     def _critical_point_exit(self) -> bool:
         """Whether the solve ended at an exit of PETSc's cp line search that is no convergence.

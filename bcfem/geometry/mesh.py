@@ -25,9 +25,12 @@ def distribute(build_model: Callable[[], None], comm, msh_file=None):
     import gmsh
     from dolfinx.io import gmsh as gmshio
 
+    from bcfem import interrupt
+
     error = None
     if comm.rank == 0:
         gmsh.initialize(interruptible=False)
+        interrupt.reinstall()  # gmsh resets SIGTERM to its default: a run would end with no status
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.option.setNumber("General.NumThreads", 1)
         try:
