@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import sys
+from contextlib import contextmanager
 
 from mpi4py import MPI
 
@@ -18,6 +19,17 @@ from bcfem.arguments import AxisSpec, build_parser, parse, split_petsc
 
 
 def main(argv: list[str] | None = None) -> int:
+    from bcfem import interrupt
+
+    interrupt.install(MPI.COMM_WORLD)  # first: a signal from here on ends with a status
+    try:
+        return _main(argv)
+    except interrupt.Interrupted as err:  # before the command began
+        _say(MPI.COMM_WORLD, f"bcfem: interrupted by {err}")
+        return err.exit_code
+
+
+def _main(argv: list[str] | None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     ours, petsc = split_petsc(argv)
     parser = build_parser()
@@ -35,26 +47,65 @@ def main(argv: list[str] | None = None) -> int:
     except ValueError as err:
         parser.exit(2, f"bcfem {args.command} {args.scene}: error: {err}\n" if MPI.COMM_WORLD.rank == 0 else "")
 
-    from bcfem import log, options, runner
+    from bcfem import interrupt, log, options
 
     comm = MPI.COMM_WORLD
     log.configure(comm, quiet=args.quiet)
     options.insert_command_line(petsc)
-    if args.command == "sweep":
-        return _sweep(parser, args, module, params, comm)
-    if args.command == "fit":
-        return _fit(parser, args, module, params, comm)
+    command = {"run": _run, "sweep": _sweep, "fit": _fit}[args.command]
     try:
-        summary = runner.run(module.build(params, comm), args.out, comm, plots=args.plots)
-    except runner.SolveError as err:
-        if comm.rank == 0:
-            print(f"bcfem run {args.scene}: solver failed: {err}", file=sys.stderr)
-        return 1
+        return command(parser, args, module, params, comm)
+    except interrupt.Interrupted as err:
+        _say(comm, f"bcfem {args.command} {args.scene}: interrupted by {err}; what was done is in {args.out}")
+        return err.exit_code
+
+
+def _say(comm, line: str) -> None:
+    """One line on stderr, from rank 0."""
+    if comm.rank == 0:
+        print(line, file=sys.stderr, flush=True)
+
+
+@contextmanager
+def _locked(parser, args, comm):
+    """The output directory, created and locked inside; one that is no directory, or that
+    another run holds, is bad input (exit 2, before any meshing)."""
+    from bcfem import outdir
+
+    try:
+        created = outdir.lock(args.out, comm)
+    except outdir.OutDirError as err:
+        parser.exit(2, f"bcfem {args.command} {args.scene}: error: {err}\n" if comm.rank == 0 else "")
+    try:
+        yield args.out
+    finally:
+        outdir.unlock(args.out, comm, created)
+
+
+def _run(parser, args, module, params, comm) -> int:
+    from bcfem import interrupt, runner
+
+    name = f"bcfem run {args.scene}"
+    with _locked(parser, args, comm):
+        try:
+            scene = module.build(params, comm)
+        except (Exception, interrupt.Interrupted) as err:
+            summary = runner.write_unsolved(args.out, args.scene, params, err, comm)
+            if isinstance(err, interrupt.Interrupted):
+                raise
+            _say(comm, f"{name}: {summary['error']} (the traceback is in {args.out / 'summary.json'})")
+            return 1
+        try:
+            summary = runner.run(scene, args.out, comm, plots=args.plots)
+        except runner.SolveError as err:
+            internal = "traceback" in err.run.summary
+            _say(comm, f"{name}: {err}; the traceback is in summary.json" if internal else
+                 f"{name}: solver failed: {err}")
+            return 1
     if args.profile and comm.rank == 0:
         print(_profile(summary))
     if comm.rank == 0:
-        written = sorted(p.name for p in args.out.iterdir() if not p.name.startswith("."))
-        print(f"wrote in {args.out}: " + ", ".join(written))
+        print(f"wrote in {args.out}: " + ", ".join(summary["files"]))
     return 0
 
 
@@ -70,7 +121,6 @@ def _profile(summary: dict) -> str:
 
 def _sweep(parser, args, module, params, comm) -> int:
     from bcfem import sweep
-    from bcfem.log import configure
     from bcfem.scenes import STUDIES
 
     studies = STUDIES[args.scene]
@@ -82,41 +132,51 @@ def _sweep(parser, args, module, params, comm) -> int:
         points = sweep.grid_points(params, axes)
     except ValueError as err:
         parser.exit(2, f"bcfem sweep {args.scene}: error: {err}\n" if comm.rank == 0 else "")
-    configure(comm, quiet=args.quiet)
-    rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm, retry_failed=args.retry_failed)
-    title = f"{args.scene}: {studies.SWEEP['title']}"
-    # one-value axes are constants; an axis of words is a set of curves or maps, not drawn
-    varying = [name for name, values in axes if len(values) > 1]
-    if any(isinstance(values, list) for _, values in axes):
-        varying = []
-    plot = {1: "curves.png", 2: "maps.png"}.get(len(varying))
-    if len(varying) == 1:
-        sweep.curves(rows, varying[0], studies.SWEEP["maps"], title, args.out / plot, comm)
-    elif len(varying) == 2:
-        sweep.contour_maps(rows, *varying, studies.SWEEP["maps"], title, args.out / plot, comm)
+    with _locked(parser, args, comm):
+        rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm, retry_failed=args.retry_failed)
+        title = f"{args.scene}: {studies.SWEEP['title']}"
+        # one-value axes are constants; an axis of words is a set of curves or maps, not drawn
+        varying = [name for name, values in axes if len(values) > 1]
+        if any(isinstance(values, list) for _, values in axes):
+            varying = []
+        plot = {1: "curves.png", 2: "maps.png"}.get(len(varying))
+        if len(varying) == 1:
+            sweep.curves(rows, varying[0], studies.SWEEP["maps"], title, args.out / plot, comm)
+        elif len(varying) == 2:
+            sweep.contour_maps(rows, *varying, studies.SWEEP["maps"], title, args.out / plot, comm)
+    failures = sweep.failures(rows)
     if comm.rank == 0:
-        failed = sum(r["status"] != "ok" for r in rows)
+        failed = sum(failures.values())
         print(f"wrote {args.out / 'sweep.csv'} ({len(rows)} points, {failed} failed)"
               + (f" and {args.out / plot}" if plot else ""))
-    return 0
+    if failures:
+        _say(comm, f"bcfem sweep {args.scene}: {sum(failures.values())} of {len(rows)} points failed:\n"
+             + "\n".join(f"  {count} x {reason}" for reason, count in failures.items()))
+    return 1 if failures else 0
 
 
 def _fit(parser, args, module, params, comm) -> int:
     import time
 
-    from bcfem import io
+    from bcfem import interrupt, io
     from bcfem.scenes import STUDIES
 
     studies = STUDIES[args.scene]
     targets = {t: getattr(args, f"target_{t}") for t in studies.FIT_TARGETS}
     t0 = time.perf_counter()
-    try:
-        result = studies.fit(**targets, params=params, comm=comm)
-    except ValueError as err:
-        parser.exit(2, f"bcfem fit {args.scene}: error: {err}\n" if comm.rank == 0 else "")
-    result = {"targets": targets, "parameters": dataclasses.asdict(params), **result,
-              "wall_time_s": time.perf_counter() - t0}
-    io.write_json(args.out / "fit.json", result, comm)
+    with _locked(parser, args, comm):
+        try:
+            result = studies.fit(**targets, params=params, comm=comm)
+        except ValueError as err:
+            parser.exit(2, f"bcfem fit {args.scene}: error: {err}\n" if comm.rank == 0 else "")
+        except interrupt.Interrupted as err:
+            io.write_json(args.out / "fit.json", {"status": "interrupted", "error": f"interrupted by {err}",
+                                                  "targets": targets, "parameters": dataclasses.asdict(params)}, comm)
+            raise
+        # the parameters the fit solved with (its own edge and cells), else the given ones
+        result = {"status": "ok" if result["converged"] else "failed", "targets": targets,
+                  "parameters": dataclasses.asdict(params), **result, "wall_time_s": time.perf_counter() - t0}
+        io.write_json(args.out / "fit.json", result, comm)
     if comm.rank == 0:
         print(json.dumps({k: result[k] for k in ("alpha", "adhesion", "alpha_uncertainty",
                                                    "adhesion_uncertainty", "converged") if k in result}))

@@ -6,23 +6,26 @@ records the accepted rows, the effective PETSc options and the cost. Arc-length 
 (:class:`~bcfem.scene.Scene`) and staged scenes (a crater cycle) differ only in their
 ``solve``. Outputs (rank 0 writes CSV, JSON and PNG; all ranks write VTX):
 
-* ``summary.json``: ``status`` (``ok`` or ``failed``) and ``error``, the parameters, the
-  scene's results, ``steps``, ``newton_iterations``, ``dofs``, ``ranks``, ``wall_time_s``,
-  ``versions`` and ``petsc_options`` (the effective options, by full name);
-* ``branch.csv``: the accepted rows; on failure the converged part is kept and the
-  command exits 1;
+* ``summary.json``: ``status`` (``ok``, ``failed`` or ``interrupted``) and ``error`` (with a
+  ``traceback`` for an internal error), the parameters, the scene's results, ``steps``,
+  ``newton_iterations``, ``dofs``, ``ranks``, ``wall_time_s``, ``versions``,
+  ``petsc_options`` (the effective options, by full name) and ``files`` (what the run wrote);
+* ``branch.csv``: the accepted rows; on failure or interruption the converged part is kept;
 * the scene's PNGs, and ``fields.bp`` for scenes with fields (``fields_<name>.bp`` for
   fields on a boundary submesh).
+
+Files an earlier run listed and this one did not write are removed (:mod:`bcfem.outdir`).
 """
 
 from __future__ import annotations
 
 import time
+import traceback
 from contextlib import contextmanager
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
 
-from bcfem import io
+from bcfem import interrupt, io, outdir
 from bcfem.continuation import ArcLength, Branch, ContinuationError
 from bcfem.log import logger
 from bcfem.problem import TIMED, Problem
@@ -30,6 +33,8 @@ from bcfem.stepping import SteppingError
 
 #: what a scene raises when its path cannot go on (the converged part is kept)
 SolveErrors = (ContinuationError, SteppingError)
+#: more unknowns than this make a run warn that it will take minutes (on a few cores)
+LARGE_PROBLEM_DOFS = 200_000
 
 
 class SolveError(RuntimeError):
@@ -87,7 +92,11 @@ class Run:
         """The problem of ``stage`` (closed by :meth:`close` or :meth:`stage`)."""
         problem = Problem(ctx, terms, bcs, self.prefix(stage), petsc_options, **kwargs)
         self.petsc_options.update({problem.prefix + k: str(v) for k, v in problem.options.items()})
-        self.dofs = max(self.dofs, problem.global_size(problem.names))
+        dofs = problem.global_size(problem.names)
+        if dofs > LARGE_PROBLEM_DOFS >= self.dofs:
+            logger.warning(f"warning: {dofs} dofs: a large problem (more than {LARGE_PROBLEM_DOFS}); "
+                           "expect minutes")
+        self.dofs = max(self.dofs, dofs)
         self._problems.append(problem)
         return problem
 
@@ -153,23 +162,35 @@ class Run:
 
 
 def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
-    """Solve ``scene``; returns (the run, its summary). Raises :class:`SolveError` (with the
-    run, whose ``summary`` says ``failed``) when the path cannot go on. With ``fields_path``
-    the fields the scene watches are written there (VTX)."""
+    """Solve ``scene``; returns (the run, its summary). When the path cannot go on, raises
+    :class:`SolveError` (with the run, whose ``summary`` says ``failed``); on a signal
+    :class:`~bcfem.interrupt.Interrupted` (``status`` ``interrupted``); on any other
+    exception that exception, with the run as its ``run`` (``failed``, with the traceback).
+    With ``fields_path`` the fields the scene watches are written there (VTX)."""
     t0 = time.perf_counter()
     run = Run(scene, comm, fields_path)
-    error = None
+    status, error, raised = "ok", None, None
     try:
         scene.solve(run)
     except SolveErrors as err:
-        error = str(err)
+        status, error = "failed", str(err)
+    except (Exception, interrupt.Interrupted) as err:
+        raised = err
     finally:
-        run.close()
+        with interrupt.deferred():
+            run.close()
+    signum = interrupt.received(comm)  # every rank says the same
+    if signum and (raised is not None or status == "failed"):
+        status, error = "interrupted", f"interrupted by {interrupt.Interrupted(signum)}"
+        raised = interrupt.Interrupted(signum)
+    elif raised is not None:
+        status, error = "failed", f"internal error: {type(raised).__name__}: {raised}"
     params = getattr(scene, "params", None)
     run.summary = {
         "scene": scene.name,
-        "status": "failed" if error else "ok",
+        "status": status,
         "error": error,
+        **({"traceback": "".join(traceback.format_exception(raised))} if status == "failed" and raised else {}),
         "parameters": asdict(params) if is_dataclass(params) else {},
         **run.results,
         "steps": len(run.rows),
@@ -182,6 +203,9 @@ def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
         "versions": versions(),
         "petsc_options": run.petsc_options,
     }
+    if raised is not None:
+        raised.run = run
+        raise raised
     if error:
         raise SolveError(error, run)
     return run, run.summary
@@ -207,26 +231,61 @@ def time_split(timings: dict, wall: float) -> dict:
 
 
 def run(scene, out: Path, comm, plots: bool = True) -> dict:
-    """Solve ``scene`` and write ``out`` (also on failure, then raising :class:`SolveError`
-    after writing), with the scene's PNGs unless ``plots`` is False; returns the summary."""
+    """Solve ``scene`` and write ``out`` (also on failure or a signal, then raising
+    :class:`SolveError` or :class:`~bcfem.interrupt.Interrupted` after writing), with the
+    scene's PNGs unless ``plots`` is False; returns the summary. The summary's ``files``
+    lists what the run wrote; an earlier run's files not among them are removed."""
     out = Path(out)
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
+    previous = outdir.files_of_last_run(out) if comm.rank == 0 else []
     comm.barrier()
     failure = None
-    try:
-        solved, summary = solve(scene, comm, out / "fields.bp")
-    except SolveError as err:
-        failure, solved, summary = err, err.run, err.run.summary
-    io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
-    io.write_json(out / "summary.json", summary, comm)
-    if plots and comm.rank == 0 and solved.rows:
-        for name, fig in scene.figures(solved.rows, summary).items():
-            io.save_figure(fig, out / name, comm)
+    with io.recording() as written:
+        try:
+            solved, summary = solve(scene, comm, out / "fields.bp")
+        except (Exception, interrupt.Interrupted) as err:
+            if not hasattr(err, "run"):
+                raise
+            failure, solved, summary = err, err.run, err.run.summary
+        with interrupt.deferred():  # the results of a signalled run are written all the same
+            io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
+            if plots and comm.rank == 0 and solved.rows:
+                for name, fig in scene.figures(solved.rows, summary).items():
+                    io.save_figure(fig, out / name, comm)
+            _write_summary(out, summary, written, previous, comm)
+    if isinstance(failure, interrupt.Interrupted):
+        raise failure
     if failure is not None:
-        raise SolveError(f"{failure} (the converged part is in {out})", solved)
+        raise SolveError(f"{summary['error']} (the converged part is in {out})", solved)
     logger.info(f"{scene.name}: {len(solved.rows)} points, {summary['wall_time_s']:.2f} s -> {out}")
     return summary
+
+
+def write_unsolved(out: Path, name: str, params, error: BaseException, comm) -> dict:
+    """The summary of a run stopped before its solve (while its scene was built): ``failed``
+    with the traceback, or ``interrupted``."""
+    out = Path(out)
+    previous = outdir.files_of_last_run(out) if comm.rank == 0 else []
+    if isinstance(error, interrupt.Interrupted):
+        summary = {"scene": name, "status": "interrupted", "error": f"interrupted by {error}"}
+    else:
+        summary = {"scene": name, "status": "failed", "error": f"internal error: {type(error).__name__}: {error}",
+                   "traceback": "".join(traceback.format_exception(error))}
+    summary["parameters"] = asdict(params) if is_dataclass(params) else {}
+    with interrupt.deferred():
+        _write_summary(out, summary, [], previous, comm)
+    return summary
+
+
+def _write_summary(out: Path, summary: dict, written: list[Path], previous: list[str], comm) -> None:
+    """Write ``summary.json`` with the list of the run's files, and remove the files of the
+    run before that are not among them (rank 0)."""
+    names = {str(p.relative_to(out)) for p in written if p.is_relative_to(out)}
+    summary["files"] = sorted(names | {"summary.json"})
+    io.write_json(out / "summary.json", summary, comm)
+    if comm.rank == 0:
+        outdir.remove_stale(out, previous, summary["files"])
 
 
 # -- arc-length scenes ----------------------------------------------------------------------

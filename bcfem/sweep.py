@@ -13,7 +13,9 @@ budgets it had, never dropped (``--retry-failed`` solves it again, and so does a
 rerun with a larger budget). Rank 0 then gathers ``sweep.csv`` and, if it solved
 anything, ``timing.json`` (points solved and reused, ranks, wall time of this
 run). Each point also keeps its own ``solve_time_s``, so the cost of a map
-solved over several (interrupted) runs is known.
+solved over several (interrupted) runs is known. ``summary.json`` gives the sweep's
+``status``: ``ok``, ``failed`` (some point failed; ``failures`` counts each reason) or
+``interrupted`` (by a signal: the finished points are kept, a rerun solves the rest).
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bcfem import io
+from bcfem import interrupt, io
 from bcfem.log import logger
 
 #: kept in a point's record, not in sweep.csv (which depends on the results alone)
@@ -198,46 +200,83 @@ def run_pool(sweeps, comm, retry_failed: bool = False) -> list[list[dict]]:
     counts = [_solve_claimed(points, solve_point, out / "points", directory, own, retry_failed)
               for (points, solve_point, _), out, directory in zip(sweeps, outs, claims)]
     own.Free()
-    counts = [(comm.allreduce(done), comm.allreduce(skipped), comm.allreduce(seconds))
-              for done, skipped, seconds in counts]
-    comm.barrier()
-    wall = time.perf_counter() - t0
-    return [_gather(points, out, directory, comm, count, wall, len(sweeps))
-            for (points, _, _), out, directory, count in zip(sweeps, outs, claims, counts)]
+    with interrupt.deferred():  # a signal from here on: the flag only, so that no rank is left waiting
+        counts = [(comm.allreduce(done), comm.allreduce(skipped), comm.allreduce(seconds))
+                  for done, skipped, seconds in counts]
+        signum = interrupt.received(comm)
+        if signum:
+            for (points, _, _), out, directory in zip(sweeps, outs, claims):
+                _stopped(points, out, directory, comm, signum)
+            raise interrupt.Interrupted(signum)
+        comm.barrier()
+        wall = time.perf_counter() - t0
+        return [_gather(points, out, directory, comm, count, wall, len(sweeps))
+                for (points, _, _), out, directory, count in zip(sweeps, outs, claims, counts)]
 
 
 def _solve_claimed(points, solve_point, point_dir: Path, claims: Path, own, retry_failed: bool):
     """The points of one sweep this rank claims first: (solved, reused, their solve seconds)."""
     done = skipped = 0
     seconds = 0.0
-    for index, (values, params) in enumerate(points):
-        key = point_key(values, params)
-        try:
-            os.close(os.open(claims / key, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
-        except FileExistsError:
-            continue  # another rank has taken it
-        path = point_dir / f"{key}.json"
-        budgets = _budgets(params)
-        if path.exists() and not _rerun(json.loads(path.read_text()), budgets, retry_failed):
-            skipped += 1  # finished before
-            continue
-        level = logger.level
-        logger.setLevel(logging.WARNING)  # no per-step progress from inside a point
-        start = time.perf_counter()
-        try:
-            row = {**values, "status": "ok", "reason": "", **solve_point(params, own)}
-        except Exception as error:  # recorded, never dropped
-            row = {**values, "status": "failed", "reason": f"{type(error).__name__}: {error}",
-                   **({"budgets": budgets} if budgets else {})}
-            logger.debug(traceback.format_exc())
-        finally:
-            logger.setLevel(level)
-        row["solve_time_s"] = time.perf_counter() - start  # kept with the point: survives an interrupted run
-        seconds += row["solve_time_s"]
-        io.write_json(path, row, own)
-        done += 1
-        logger.info(f"sweep: point {index + 1}/{len(points)} {point_key(values)}: {row['status']}")
+    try:
+        for index, (values, params) in enumerate(points):
+            if interrupt.requested():
+                break  # the other sweeps' points are left too
+            key = point_key(values, params)
+            try:
+                os.close(os.open(claims / key, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+            except FileExistsError:
+                continue  # another rank has taken it
+            path = point_dir / f"{key}.json"
+            budgets = _budgets(params)
+            if path.exists() and not _rerun(io.read_json(path), budgets, retry_failed):
+                skipped += 1  # finished before
+                continue
+            row = _solve_point(values, params, solve_point, budgets, own)
+            seconds += row["solve_time_s"]
+            io.write_json(path, row, own)
+            done += 1
+            logger.info(f"sweep: point {index + 1}/{len(points)} {point_key(values)}: {row['status']}")
+    except interrupt.Interrupted:
+        pass  # the point being solved is not written: a rerun solves it
     return done, skipped, seconds
+
+
+def _solve_point(values: dict, params, solve_point, budgets: dict, own) -> dict:
+    """One point's record: its results, or why it failed."""
+    level = logger.level
+    logger.setLevel(logging.WARNING)  # no per-step progress from inside a point
+    start = time.perf_counter()
+    try:
+        row = {**values, "status": "ok", "reason": "", **solve_point(params, own)}
+    except Exception as error:  # recorded, never dropped
+        row = {**values, "status": "failed", "reason": f"{type(error).__name__}: {error}",
+               **({"budgets": budgets} if budgets else {})}
+        logger.debug(traceback.format_exc())
+    finally:
+        logger.setLevel(level)
+    row["solve_time_s"] = time.perf_counter() - start  # kept with the point: survives an interrupted run
+    return row
+
+
+def failures(rows: list[dict]) -> dict[str, int]:
+    """How many points failed for each reason, the most frequent first."""
+    reasons: dict[str, int] = {}
+    for row in rows:
+        if row["status"] != "ok":
+            reasons[row["reason"]] = reasons.get(row["reason"], 0) + 1
+    return dict(sorted(reasons.items(), key=lambda item: -item[1]))
+
+
+def _stopped(points, out: Path, claims: Path, comm, signum: int) -> None:
+    """Rank 0 records an interrupted sweep: its claims go, its finished points stay."""
+    if comm.rank != 0:
+        return
+    shutil.rmtree(claims, ignore_errors=True)
+    finished = sum((out / "points" / f"{point_key(values, params)}.json").exists() for values, params in points)
+    io.write_json(out / "summary.json", {"status": "interrupted", "error": f"interrupted by "
+                                         f"{interrupt.Interrupted(signum)}", "points": len(points),
+                                         "finished": finished}, comm)
 
 
 def _gather(points, out: Path, claims: Path, comm, count, wall: float, pooled: int) -> list[dict]:
@@ -248,7 +287,7 @@ def _gather(points, out: Path, claims: Path, comm, count, wall: float, pooled: i
     if comm.rank == 0:
         shutil.rmtree(claims)
         for values, params in points:
-            rows.append(json.loads((out / "points" / f"{point_key(values, params)}.json").read_text()))
+            rows.append(io.read_json(out / "points" / f"{point_key(values, params)}.json"))
         # a point's nested records (dicts) stay in its JSON file, out of the CSV
         columns = sorted({k for r in rows for k, v in r.items() if not isinstance(v, dict)} - RECORD_ONLY,
                          key=lambda k: (k in ("status", "reason"), k))
@@ -259,6 +298,10 @@ def _gather(points, out: Path, claims: Path, comm, count, wall: float, pooled: i
                 "ranks": comm.size, "wall_time_s": wall, "point_solve_time_s": seconds, "pooled_sweeps": pooled,
                 "core_seconds_per_solved_point": (wall * comm.size if pooled == 1 else seconds) / total_done},
                 comm)
+        reasons = failures(rows)
+        io.write_json(out / "summary.json", {"status": "failed" if reasons else "ok", "error": None,
+                                             "points": len(rows), "finished": len(rows),
+                                             "failed": sum(reasons.values()), "failures": reasons}, comm)
     logger.info(f"sweep: {total_done} points solved, {total_skipped} reused, "
                 f"{sum(r['status'] != 'ok' for r in rows)} failed -> {out / 'sweep.csv'}")
     return comm.bcast(rows, root=0)
