@@ -37,13 +37,15 @@ class Interrupted(BaseException):
 
 def install(comm) -> None:
     """Handle SIGINT and SIGTERM for a command on ``comm`` (the world)."""
+    from petsc4py import PETSc  # noqa: F401  PETSc's initialisation handles SIGTERM: ours come after
+
     global _installed, _raise_at_once
     _installed, _raise_at_once = True, comm.size == 1
     reinstall()
 
 
 def reinstall() -> None:
-    """Handle the signals again after a library reset them behind Python's back (gmsh's
+    """Handle the signals again after a library set them behind Python's back (gmsh's
     initialize sets SIGTERM to its default, which would end the process with no status)."""
     if _installed:
         for signum in (signal.SIGINT, signal.SIGTERM):

@@ -9,14 +9,15 @@ logger = logging.getLogger("bcfem")
 
 
 def configure(comm, quiet: bool = False) -> None:
-    """Send bcfem's log to stderr on rank 0 only; silence other ranks."""
+    """Send bcfem's log to stderr on rank 0 only; silence other ranks. ``quiet`` leaves the
+    warnings alone (a large problem, ...)."""
     logger.handlers.clear()
     logger.propagate = False
-    if comm.rank == 0 and not quiet:
+    if comm.rank == 0:
         handler = logging.StreamHandler(sys.stderr)
         handler.setFormatter(logging.Formatter("%(message)s"))
         logger.addHandler(handler)
-        logger.setLevel(logging.INFO)
+        logger.setLevel(logging.WARNING if quiet else logging.INFO)
     else:
         logger.addHandler(logging.NullHandler())
         logger.setLevel(logging.CRITICAL + 1)
