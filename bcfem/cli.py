@@ -133,6 +133,8 @@ def _sweep(parser, args, module, params, comm) -> int:
     except ValueError as err:
         parser.exit(2, f"bcfem sweep {args.scene}: error: {err}\n" if comm.rank == 0 else "")
     with _locked(parser, args, comm):
+        if comm.rank == 0:
+            sweep.clear_claims(args.out)
         rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm, retry_failed=args.retry_failed)
         title = f"{args.scene}: {studies.SWEEP['title']}"
         # one-value axes are constants; an axis of words is a set of curves or maps, not drawn

@@ -26,6 +26,7 @@ import json
 import logging
 import math
 import os
+import re
 import shutil
 import time
 import traceback
@@ -260,12 +261,23 @@ def _solve_point(values: dict, params, solve_point, budgets: dict, own) -> dict:
 
 
 def failures(rows: list[dict]) -> dict[str, int]:
-    """How many points failed for each reason, the most frequent first."""
-    reasons: dict[str, int] = {}
+    """How many points failed for each reason, the most frequent first. Reasons that differ
+    only in their numbers (the load where a path ended) count as one, under the first."""
+    counts: dict[str, int] = {}
+    first: dict[str, str] = {}
     for row in rows:
         if row["status"] != "ok":
-            reasons[row["reason"]] = reasons.get(row["reason"], 0) + 1
-    return dict(sorted(reasons.items(), key=lambda item: -item[1]))
+            kind = re.sub(r"\d+(\.\d*)?(e[-+]?\d+)?", "#", row["reason"])
+            first.setdefault(kind, row["reason"])
+            counts[kind] = counts.get(kind, 0) + 1
+    return {first[kind]: n for kind, n in sorted(counts.items(), key=lambda item: -item[1])}
+
+
+def clear_claims(out: Path) -> None:
+    """Remove the claims of earlier runs killed before they could (call it only while no
+    other run solves into ``out``: under its lock)."""
+    for directory in (Path(out) / "points").glob(".claims-*"):
+        shutil.rmtree(directory, ignore_errors=True)
 
 
 def _stopped(points, out: Path, claims: Path, comm, signum: int) -> None:

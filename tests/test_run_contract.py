@@ -1,0 +1,226 @@
+"""The run-time contract of ``bcfem run|sweep|fit`` (issue 38): a signal leaves ``status:
+interrupted`` and what converged; ``--out`` is locked and cleared of an earlier run's files
+only; every JSON file is strict; a failure, also an internal one, is a status and an exit code,
+never a traceback."""
+
+import json
+import math
+import os
+import re
+import signal
+import socket
+import subprocess
+from pathlib import Path
+
+from mpi4py import MPI
+
+import numpy as np
+import pytest
+from helpers import BIN, bcfem
+
+from bcfem import interrupt, io, sweep
+from bcfem.scenes import blister_rigid, blister_studies
+
+TINY = ["run", "blister-rigid", "--cells", "20", "--v-max", "0.5", "--quiet"]
+#: a crater pressed to near closure: minutes of load steps, signalled after its first
+LONG = ["run", "crater", "--preload", "0.85", "--no-plots"]
+
+
+def strict(path) -> dict:
+    """``path`` parsed as strict JSON (Infinity and NaN refused)."""
+    def refuse(constant):
+        raise ValueError(f"{path}: {constant} is no JSON")
+
+    return json.loads(Path(path).read_text(), parse_constant=refuse)
+
+
+def rows_of(out) -> int:
+    return len((out / "branch.csv").read_text().splitlines()) - 1
+
+
+def signalled(argv, out, signum, pattern, ranks=1, meanwhile=None) -> tuple[int, str]:
+    """Run ``bcfem argv --out out``; once stderr has a line matching ``pattern`` (an accepted
+    state), call ``meanwhile()``, send ``signum`` (to mpirun, for ranks > 1); (exit code,
+    stderr)."""
+    cmd = [str(BIN / "bcfem"), *argv, "--out", str(out)]
+    if ranks > 1:
+        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}"}
+    process = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    seen = []
+    for line in process.stderr:
+        seen.append(line)
+        if re.search(pattern, line):
+            break
+    if meanwhile is not None:
+        meanwhile()
+    process.send_signal(signum)
+    _, rest = process.communicate(timeout=120)
+    return process.returncode, "".join(seen) + rest
+
+
+def assert_interrupted(out, code, stderr, signum):
+    assert code == 128 + signum, stderr[-2000:]
+    assert "Traceback" not in stderr
+    summary = strict(out / "summary.json")
+    assert summary["status"] == "interrupted" and signal.Signals(signum).name in summary["error"]
+    assert rows_of(out) == summary["steps"] >= 1  # what converged before the signal
+    assert not [p.name for p in out.rglob("*tmp*")], "temporary files left behind"
+    assert not (out / ".bcfem.lock").exists()
+    return summary
+
+
+@pytest.mark.serial
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_ends_a_run_with_status_interrupted(tmp_path, signum):
+    """Neither signal is taken for a failed Newton solve: the run stops, writes what converged
+    and exits 128 + the signal's number. While it runs, a second run into its directory is
+    refused (exit 2, one line), before any meshing."""
+    out = tmp_path / "run"
+    refused = []
+
+    def second_run():
+        refused.append(bcfem(*TINY, "--out", out))
+
+    code, stderr = signalled(LONG, out, signum, r"^load ", meanwhile=second_run if signum == signal.SIGINT else None)
+    assert_interrupted(out, code, stderr, signum)
+    for res in refused:
+        assert res.returncode == 2
+        assert re.fullmatch(r"bcfem run blister-rigid: error: --out \S+ is in use by another run \(pid \d+\)\n",
+                            res.stderr), res.stderr
+
+
+@pytest.mark.serial
+def test_a_signal_to_mpirun_gives_the_same_status(tmp_path):
+    out = tmp_path / "mpi"
+    code, stderr = signalled(LONG, out, signal.SIGINT, r"^load ", ranks=2)
+    assert assert_interrupted(out, code, stderr, signal.SIGINT)["ranks"] == 2
+
+
+def _lock(out: Path, pid: int) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    (out / ".bcfem.lock").write_text(json.dumps({"pid": pid, "host": socket.gethostname()}))
+
+
+def test_a_live_lock_refuses_the_run_and_a_dead_one_is_taken_over(tmp_path):
+    out = tmp_path / "locked"
+    _lock(out, os.getpid())  # a live process
+    res = bcfem(*TINY, "--out", out)
+    assert res.returncode == 2 and f"is in use by another run (pid {os.getpid()})" in res.stderr
+    assert len(res.stderr.splitlines()) == 1 and sorted(p.name for p in out.iterdir()) == [".bcfem.lock"]
+    gone = subprocess.Popen(["true"])
+    gone.wait()
+    _lock(out, gone.pid)  # a killed run's lock
+    res = bcfem(*TINY, "--out", out)
+    assert res.returncode == 0, res.stderr
+    assert not (out / ".bcfem.lock").exists() and strict(out / "summary.json")["status"] == "ok"
+
+
+def test_out_that_is_a_file_is_bad_input(tmp_path):
+    path = tmp_path / "results"
+    path.write_text("mine")
+    res = bcfem(*TINY, "--out", path)
+    assert res.returncode == 2 and "--out" in res.stderr and len(res.stderr.splitlines()) == 1
+    assert path.read_text() == "mine" and sorted(p.name for p in tmp_path.iterdir()) == ["results"]
+
+
+def test_an_earlier_runs_files_go_and_the_users_stay(tmp_path):
+    out = tmp_path / "again"
+    assert bcfem(*TINY, "--out", out).returncode == 0
+    assert (out / "pv.png").exists()
+    (out / "notes.txt").write_text("the user's")
+    res = bcfem(*TINY, "--no-plots", "--out", out)
+    assert res.returncode == 0, res.stderr
+    files = ["branch.csv", "fields.bp", "summary.json"]
+    assert strict(out / "summary.json")["files"] == files
+    assert sorted(p.name for p in out.iterdir()) == sorted([*files, "notes.txt"])
+    assert res.stdout.strip() == f"wrote in {out}: " + ", ".join(files)
+
+
+def test_json_is_strict_and_reads_back(tmp_path):
+    data = {"a": math.inf, "b": -math.inf, "c": math.nan, "d": np.float64(math.inf), "e": [np.int64(3), 0.5]}
+    io.write_json(tmp_path / "x.json", data, MPI.COMM_SELF)
+    assert strict(tmp_path / "x.json") == {"a": "inf", "b": "-inf", "c": None, "d": "inf", "e": [3, 0.5]}
+    assert io.read_json(tmp_path / "x.json") == {"a": math.inf, "b": -math.inf, "c": None, "d": math.inf,
+                                                 "e": [3, 0.5]}
+    # a sweep's point files too: a rerun reads its points back as they were
+    points = sweep.grid_points(blister_rigid.Params(), [("alpha", [0.0])])
+    rows = sweep.run(points, lambda params, comm: {"x": math.inf}, tmp_path / "s", MPI.COMM_SELF)
+    assert rows[0]["x"] == math.inf and strict(next((tmp_path / "s" / "points").glob("*.json")))["x"] == "inf"
+    assert strict(tmp_path / "s" / "summary.json")["status"] == "ok"
+
+
+@pytest.fixture
+def in_process(monkeypatch):
+    """Run ``bcfem.cli.main`` in this process: its signal handlers go again afterwards."""
+    from bcfem import cli
+
+    handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    monkeypatch.setattr(interrupt, "_installed", interrupt._installed)
+    monkeypatch.setattr(interrupt, "_raise_at_once", interrupt._raise_at_once)
+    yield cli.main
+    for s, handler in handlers.items():
+        signal.signal(s, handler)
+
+
+@pytest.mark.serial
+def test_an_internal_error_is_a_failed_status_not_a_traceback(tmp_path, in_process, monkeypatch, capsys):
+    import bcfem.runner
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("injected")
+
+    monkeypatch.setattr(bcfem.runner, "trace", broken)
+    out = tmp_path / "bug"
+    assert in_process([*TINY, "--out", str(out)]) == 1
+    stderr = capsys.readouterr().err
+    assert "Traceback" not in stderr and len(stderr.splitlines()) == 1
+    assert "internal error: ZeroDivisionError: injected" in stderr
+    summary = strict(out / "summary.json")
+    assert summary["status"] == "failed" and summary["error"] == "internal error: ZeroDivisionError: injected"
+    assert "ZeroDivisionError" in summary["traceback"]
+
+
+@pytest.mark.serial
+def test_fit_json_records_the_parameters_the_fit_solved_with(tmp_path, in_process, monkeypatch):
+    def solved(aspect, P1, params, comm, guess, tol):
+        return {"alpha": 0.5, "adhesion": 3.0, "converged": True, "residual": [0.0, 0.0], "evaluations": 1,
+                "message": "stub"}
+
+    monkeypatch.setattr(blister_studies, "solve_fit", solved)
+    out = tmp_path / "fit"
+    assert in_process(["fit", "blister-rigid", "--aspect", "2", "--P1", "10", "--cells", "20", "--quiet",
+                       "--out", str(out)]) == 0
+    fit = strict(out / "fit.json")
+    assert fit["status"] == "ok"
+    assert fit["parameters"]["edge"] == "adhesive" and fit["parameters"]["cells"] == 40
+    assert fit["parameters"]["stop_radius"] == 1.02 and fit["parameters"]["alpha"] == 0.5
+
+
+SWEEP = ["sweep", "blister-rigid", "--grid", "alpha=0,2", "--grid", "adhesion=1,4", "--material", "gent",
+         "--v-max", "10", "--cells", "30"]
+
+
+@pytest.mark.serial
+def test_an_interrupted_sweep_keeps_its_points_and_resumes(tmp_path):
+    out = tmp_path / "sweep"
+    code, stderr = signalled(SWEEP, out, signal.SIGINT, r"sweep: point \d")
+    assert code == 130 and "Traceback" not in stderr, stderr[-2000:]
+    summary = strict(out / "summary.json")
+    kept = sorted(p.name for p in (out / "points").glob("*.json"))
+    assert summary["status"] == "interrupted" and summary["finished"] == len(kept) >= 1
+    assert not list((out / "points").glob(".claims-*")) and not (out / ".bcfem.lock").exists()
+    res = bcfem(*SWEEP, "--out", out)
+    assert res.returncode == 0, res.stderr
+    assert f"{4 - len(kept)} points solved, {len(kept)} reused" in res.stderr
+    assert strict(out / "summary.json")["status"] == "ok"
+
+
+def test_a_sweep_with_failed_points_exits_1_and_counts_why(tmp_path):
+    out = tmp_path / "failing"
+    res = bcfem("sweep", "blister-rigid", "--grid", "alpha=0,1", "--cells", "20", "--v-max", "2", "--quiet",
+                "--out", out, "-snes_max_it", "1", "-snes_rtol", "1e-30", "-snes_atol", "1e-30", "-snes_stol", "0")
+    assert res.returncode == 1 and "Traceback" not in res.stderr
+    assert "2 of 2 points failed" in res.stderr and "2 x ContinuationError" in res.stderr
+    summary = strict(out / "summary.json")
+    assert summary["status"] == "failed" and summary["failed"] == 2 and sum(summary["failures"].values()) == 2
