@@ -97,6 +97,10 @@ def _run(parser, args, module, params, comm) -> int:
             return 1
         try:
             summary = runner.run(scene, args.out, comm, plots=args.plots)
+        except interrupt.Interrupted as err:
+            if not hasattr(err, "run"):  # before the solve began: still a status on disk
+                runner.write_unsolved(args.out, args.scene, params, err, comm)
+            raise
         except runner.SolveError as err:
             internal = "traceback" in err.run.summary
             _say(comm, f"{name}: {err}; the traceback is in summary.json" if internal else
