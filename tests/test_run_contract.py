@@ -97,44 +97,69 @@ def test_a_signal_to_mpirun_gives_the_same_status(tmp_path):
     assert assert_interrupted(out, code, stderr, signal.SIGINT)["ranks"] == 2
 
 
+@pytest.fixture
+def in_process(monkeypatch):
+    """Run ``bcfem.cli.main`` in this process: its signal handlers and log set-up go afterwards."""
+    from bcfem import cli
+    from bcfem.log import logger
+
+    handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    monkeypatch.setattr(interrupt, "_installed", interrupt._installed)
+    monkeypatch.setattr(interrupt, "_raise_at_once", interrupt._raise_at_once)
+    monkeypatch.setattr(logger, "handlers", list(logger.handlers))
+    monkeypatch.setattr(logger, "level", logger.level)
+    monkeypatch.setattr(logger, "propagate", logger.propagate)
+    yield cli.main
+    for s, handler in handlers.items():
+        signal.signal(s, handler)
+
+
 def _lock(out: Path, pid: int) -> None:
     out.mkdir(parents=True, exist_ok=True)
     (out / ".bcfem.lock").write_text(json.dumps({"pid": pid, "host": socket.gethostname()}))
 
 
-def test_a_live_lock_refuses_the_run_and_a_dead_one_is_taken_over(tmp_path):
+def test_a_live_lock_refuses_the_run(tmp_path):
     out = tmp_path / "locked"
     _lock(out, os.getpid())  # a live process
     res = bcfem(*TINY, "--out", out)
     assert res.returncode == 2 and f"is in use by another run (pid {os.getpid()})" in res.stderr
     assert len(res.stderr.splitlines()) == 1 and sorted(p.name for p in out.iterdir()) == [".bcfem.lock"]
+
+
+@pytest.mark.serial
+def test_a_killed_runs_lock_is_taken_over(tmp_path, in_process):
     gone = subprocess.Popen(["true"])
     gone.wait()
-    _lock(out, gone.pid)  # a killed run's lock
-    res = bcfem(*TINY, "--out", out)
-    assert res.returncode == 0, res.stderr
+    out = tmp_path / "stale"
+    _lock(out, gone.pid)
+    assert in_process([*TINY, "--out", str(out)]) == 0
     assert not (out / ".bcfem.lock").exists() and strict(out / "summary.json")["status"] == "ok"
 
 
-def test_out_that_is_a_file_is_bad_input(tmp_path):
+@pytest.mark.serial
+def test_out_that_is_a_file_is_bad_input(tmp_path, in_process, capsys):
     path = tmp_path / "results"
     path.write_text("mine")
-    res = bcfem(*TINY, "--out", path)
-    assert res.returncode == 2 and "--out" in res.stderr and len(res.stderr.splitlines()) == 1
+    with pytest.raises(SystemExit) as exit:
+        in_process([*TINY, "--out", str(path)])
+    stderr = capsys.readouterr().err
+    assert exit.value.code == 2 and "--out" in stderr and len(stderr.splitlines()) == 1
     assert path.read_text() == "mine" and sorted(p.name for p in tmp_path.iterdir()) == ["results"]
 
 
-def test_an_earlier_runs_files_go_and_the_users_stay(tmp_path):
+@pytest.mark.serial
+def test_an_earlier_runs_files_go_and_the_users_stay(tmp_path, in_process, capsys):
     out = tmp_path / "again"
-    assert bcfem(*TINY, "--out", out).returncode == 0
+    assert in_process([*TINY, "--out", str(out)]) == 0
     assert (out / "pv.png").exists()
     (out / "notes.txt").write_text("the user's")
-    res = bcfem(*TINY, "--no-plots", "--out", out)
-    assert res.returncode == 0, res.stderr
+    capsys.readouterr()
+    assert in_process([*TINY, "--no-plots", "--out", str(out)]) == 0
     files = ["branch.csv", "fields.bp", "summary.json"]
     assert strict(out / "summary.json")["files"] == files
     assert sorted(p.name for p in out.iterdir()) == sorted([*files, "notes.txt"])
-    assert res.stdout.strip() == f"wrote in {out}: " + ", ".join(files)
+    assert capsys.readouterr().out.strip() == f"wrote in {out}: " + ", ".join(files)
 
 
 def test_json_is_strict_and_reads_back(tmp_path):
@@ -148,19 +173,6 @@ def test_json_is_strict_and_reads_back(tmp_path):
     rows = sweep.run(points, lambda params, comm: {"x": math.inf}, tmp_path / "s", MPI.COMM_SELF)
     assert rows[0]["x"] == math.inf and strict(next((tmp_path / "s" / "points").glob("*.json")))["x"] == "inf"
     assert strict(tmp_path / "s" / "summary.json")["status"] == "ok"
-
-
-@pytest.fixture
-def in_process(monkeypatch):
-    """Run ``bcfem.cli.main`` in this process: its signal handlers go again afterwards."""
-    from bcfem import cli
-
-    handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
-    monkeypatch.setattr(interrupt, "_installed", interrupt._installed)
-    monkeypatch.setattr(interrupt, "_raise_at_once", interrupt._raise_at_once)
-    yield cli.main
-    for s, handler in handlers.items():
-        signal.signal(s, handler)
 
 
 @pytest.mark.serial
