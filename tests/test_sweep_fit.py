@@ -195,6 +195,19 @@ def test_maps_of_failed_points_and_one_value_axes(tmp_path):
     assert (tmp_path / "one" / "curves.png").exists() and "2 points" in res.stdout
 
 
+def test_panels_wrap_into_rows_of_at_most_four():
+    """A crater sweep's 8 maps are 2 rows of 4 (not one row 5000 px wide), 9 are 3 x 3."""
+    from bcfem.plots import pyplot
+
+    plt = pyplot()
+    for count, shape in ((1, (1, 1)), (4, (1, 4)), (5, (2, 3)), (8, (2, 4)), (9, (3, 3))):
+        fig, panels = sweep._panel_grid(plt, count, 4.2, 3.6)
+        grid = fig.axes[0].get_subplotspec().get_gridspec()
+        assert (grid.nrows, grid.ncols) == shape and len(panels) == count
+        assert [ax for ax in fig.axes if ax.get_visible()] == panels
+        plt.close(fig)
+
+
 def test_a_flag_with_start_stop_step_is_an_axis():
     assert np.allclose(sweep.parse_range("preload", "0:0.5:0.025"), np.linspace(0, 0.5, 21))
     assert np.allclose(sweep.parse_range("alpha", "0.5:1:0.5"), [0.5, 1.0])
