@@ -127,8 +127,9 @@ class Problem(ConvergedAlgebra):
         ``snes_divergence_tolerance`` (-3, PETSC_UNLIMITED: off) times the solve's first is reported as NaN, so the
         solve stops (DIVERGED_FNORM_NAN) or the line search backs off, rather than iterating
         to ``snes_max_it`` on a diverging path."""
-        if interrupt.requested():  # end the solve at once (check() then stops the run)
+        if interrupt.received(self.comm):  # every rank ends the solve here; check() then stops it
             f.set(np.nan)
+            return
         norm = f.norm()
         if self._first_norm is None:
             self._first_norm = norm
