@@ -38,10 +38,32 @@ def rows_of(out) -> int:
     return len((out / "branch.csv").read_text().splitlines()) - 1
 
 
-def signalled(argv, out, signum, pattern, ranks=1, meanwhile=None) -> tuple[int, str]:
+def rank_pids(mpirun: int) -> dict[int, int]:
+    """{rank: pid} of the processes mpirun started (its grandchildren, by PMI_RANK)."""
+    def children(pid):
+        return [int(p.name) for p in Path("/proc").iterdir() if p.name.isdigit()
+                and _parent(p) == pid]
+
+    pids = {}
+    for pid in (g for c in children(mpirun) for g in children(c)):
+        environ = Path(f"/proc/{pid}/environ").read_bytes().split(b"\0")
+        rank = next((e.split(b"=")[1] for e in environ if e.startswith(b"PMI_RANK=")), None)
+        if rank is not None:
+            pids[int(rank)] = pid
+    return pids
+
+
+def _parent(proc: Path) -> int | None:
+    try:
+        return int((proc / "stat").read_text().rsplit(")", 1)[1].split()[1])
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+def signalled(argv, out, signum, pattern, ranks=1, meanwhile=None, rank=None) -> tuple[int, str]:
     """Run ``bcfem argv --out out``; once stderr has a line matching ``pattern`` (an accepted
-    state), call ``meanwhile()``, send ``signum`` (to mpirun, for ranks > 1); (exit code,
-    stderr)."""
+    state), call ``meanwhile()``, send ``signum`` (to mpirun for ranks > 1, or to ``rank``
+    alone); (exit code, stderr)."""
     cmd = [str(BIN / "bcfem"), *argv, "--out", str(out)]
     if ranks > 1:
         cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
@@ -54,8 +76,17 @@ def signalled(argv, out, signum, pattern, ranks=1, meanwhile=None) -> tuple[int,
             break
     if meanwhile is not None:
         meanwhile()
-    process.send_signal(signum)
-    _, rest = process.communicate(timeout=120)
+    if rank is None:
+        process.send_signal(signum)
+    else:
+        os.kill(rank_pids(process.pid)[rank], signum)
+    try:
+        _, rest = process.communicate(timeout=120)
+    except subprocess.TimeoutExpired:  # a rank left waiting: end them all
+        for pid in rank_pids(process.pid).values() if ranks > 1 else ():
+            os.kill(pid, signal.SIGKILL)
+        process.kill()
+        raise
     return process.returncode, "".join(seen) + rest
 
 
@@ -91,9 +122,12 @@ def test_a_signal_ends_a_run_with_status_interrupted(tmp_path, signum):
 
 
 @pytest.mark.serial
-def test_a_signal_to_mpirun_gives_the_same_status(tmp_path):
+@pytest.mark.parametrize("rank", [None, 1])
+def test_a_signal_to_mpirun_or_one_rank_gives_the_same_status(tmp_path, rank):
+    """mpirun passes the signal on to every rank; one that reaches a single rank stops every
+    rank at the same Newton iteration (no rank is left waiting in a collective)."""
     out = tmp_path / "mpi"
-    code, stderr = signalled(LONG, out, signal.SIGINT, r"^load ", ranks=2)
+    code, stderr = signalled(LONG, out, signal.SIGINT, r"^load ", ranks=2, rank=rank)
     assert assert_interrupted(out, code, stderr, signal.SIGINT)["ranks"] == 2
 
 
