@@ -15,18 +15,31 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import ufl
+
 
 @dataclass(frozen=True)
 class Cavity:
     """The cavity bounded by the boundary part ``boundary`` and the plate z = 0.
 
+    With ``contact_gap`` g > 0 the height z enters as z^2 / sqrt(z^2 + g^2): that and its slope
+    vanish where the boundary lies on the plate, so a part on the plate is not wetted (its
+    lift would open a gap there, not change the cavity), and it is z to O(g^2/z) where the
+    boundary has lifted. A face that lies on the plate at rest (a bottom face that may lift
+    off into the cavity) can then be part of ``boundary``.
+
     Attributes:
         boundary: facet tag (or tuple of tags) of the cavity's wall.
+        contact_gap: g, a length far below the lifts that matter (0: z as it is).
     """
 
     boundary: int | tuple[int, ...]
+    contact_gap: float = 0.0
 
     def volume(self, kin):
         """The current volume as a form over the wall (kinematics with ``height``,
         ``nanson()`` and ``surface_integral``)."""
-        return kin.surface_integral(-kin.height * kin.nanson()[1], self.boundary)
+        z = kin.height
+        if self.contact_gap > 0:
+            z = z * z / ufl.sqrt(z * z + self.contact_gap**2)
+        return kin.surface_integral(-z * kin.nanson()[1], self.boundary)

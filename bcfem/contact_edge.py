@@ -81,11 +81,12 @@ def edge_radius(X: np.ndarray, x: np.ndarray, tolerance: float) -> float:
     return quadratic_at(s, x[:, 0], s0)
 
 
-def plate_edge(comm, X: np.ndarray, x: np.ndarray, tolerance: float, nodes: int = OFF_NODES) -> float:
+def plate_edge(comm, X: np.ndarray, x: np.ndarray, tolerance: float, nodes: int = OFF_NODES,
+               order: np.ndarray | None = None) -> float:
     """The current radius where one part of a wall leaves the plane z = 0 (collective).
 
-    The part's nodes lie on the plane from their lowest reference height up to some height
-    (the highest node on the plane); the edge lies past it, among the nodes above. Each rank
+    The part's nodes lie on the plane from their lowest reference height (or ``order``) up to
+    some height (the highest node on the plane); the edge lies past it, among the nodes above. Each rank
     holds some of the nodes (ghosts may repeat); only the highest node on the plane and the
     ``nodes`` lowest nodes above it are gathered.
 
@@ -95,21 +96,24 @@ def plate_edge(comm, X: np.ndarray, x: np.ndarray, tolerance: float, nodes: int 
         x: their current positions (n, 2).
         tolerance: a node with x_z <= tolerance is on the plane.
         nodes: nodes off the plane in the fit.
+        order: the nodes' place along the part, increasing away from the contact (default:
+            the reference height; a wall joined to a bottom face that may lift off the plane
+            counts the bottom face's nodes below the wall's).
 
     Returns 0 if none of the part's nodes is on the plane.
     """
     on = x[:, 1] <= tolerance
-    Z = X[:, 1]
+    Z = X[:, 1] if order is None else order
     top = max(comm.allgather(float(Z[on].max(initial=-math.inf))))
     if not math.isfinite(top):
         return 0.0
     above = np.flatnonzero(~on & (Z > top))
     near = above[np.argsort(Z[above])[:nodes]]
     mine = np.flatnonzero(on & (Z == top))[:1]
-    rows = np.hstack([X, x])[np.concatenate([mine, near])]
+    rows = np.hstack([X, x, Z[:, None]])[np.concatenate([mine, near])]
     gathered = np.vstack(comm.allgather(rows))
-    gathered = gathered[np.argsort(gathered[:, 1], kind="stable")]
+    gathered = gathered[np.argsort(gathered[:, 4], kind="stable")]
     # a node shared by ranks comes once per rank, with the same reference position
     keep = np.concatenate([[True], np.any(np.abs(np.diff(gathered[:, :2], axis=0)) > 0, axis=1)])
     window = gathered[keep][:nodes + 1]
-    return edge_radius(window[:, :2], window[:, 2:], tolerance)
+    return edge_radius(window[:, :2], window[:, 2:4], tolerance)

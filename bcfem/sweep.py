@@ -96,14 +96,18 @@ def parse_range(name: str, spec: str) -> np.ndarray:
 def point_key(values: dict, params=None) -> str:
     """File name of a point: its grid values, plus a digest of every other parameter, so a
     rerun with different settings never reuses stale points. Solver budgets (the params'
-    ``BUDGETS``) are left out: they decide whether a point gets through, not its result."""
+    ``BUDGETS``) are left out: they decide whether a point gets through, not its result, and
+    so is a parameter of the params' ``LATER`` (added after maps were solved) at its default,
+    so that the points solved before it came stay valid."""
     key = "_".join(f"{k}={v if isinstance(v, str) else format(v, '.12g')}" for k, v in sorted(values.items()))
     if params is None:
         return key
     import hashlib
 
     budgets = getattr(params, "BUDGETS", ())
-    settings = {k: v for k, v in dataclasses.asdict(params).items() if k not in values and k not in budgets}
+    later = {f.name: f.default for f in dataclasses.fields(params) if f.name in getattr(params, "LATER", ())}
+    settings = {k: v for k, v in dataclasses.asdict(params).items()
+                if k not in values and k not in budgets and not (k in later and v == later[k])}
     digest = hashlib.sha1(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()[:10]
     return f"{key}_{digest}"
 

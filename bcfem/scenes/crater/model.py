@@ -2,7 +2,9 @@ r"""The crater model: mesh, states, energy terms, boundary conditions and observ
 
 A neo-Hookean specimen (nearly incompressible, Taylor-Hood u-p) with a crater in its
 bottom face stands on a rigid plate. The bottom face is held on the plate (u_z = 0,
-free to slide): ambient pressure holds the sealed interface down. The crater wall is
+free to slide: ambient pressure holds the sealed interface down), or, with
+``bottom = contact``, in frictionless unilateral contact with it (the dissertation's
+model), free to lift off. The crater wall is
 in frictionless contact with the plate (z >= 0, bounds of a variational inequality)
 and may not pass through itself (penalty self-contact, :mod:`bcfem.self_contact`).
 A surface energy γ on the wall gives its creases a length scale. The crater fluid is
@@ -18,7 +20,7 @@ from mpi4py import MPI
 
 import numpy as np
 import ufl
-from dolfinx import fem
+from dolfinx import fem, mesh
 
 from bcfem import contact_edge
 from bcfem.bcs import component
@@ -33,6 +35,15 @@ from bcfem.relaxation import Viscosity
 from bcfem.scenes.crater.params import Params
 from bcfem.self_contact import WallSelfContact
 from bcfem.solid import AxisymmetricSolid
+
+#: the facet tag of the bottom face inside the seal's reach (``bottom = contact``)
+SEALED_BOTTOM = 16
+#: with the bottom face in contact, the cavity's gap scale over a (:class:`bcfem.cavity.Cavity`):
+#: its nodes on the plate feel no fluid, and a lift h counts as h (1 - O(g^2/h^2))
+CONTACT_GAP = 1e-4
+#: how far out the seal may move before the crater counts as pulled off: this fraction of the
+#: way from the rim to the specimen's edge
+SEAL_REACH = 0.5
 
 
 class Crater:
@@ -67,12 +78,19 @@ class Crater:
         # reference points and displacement dofs of the crater wall, found once
         self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
                       np.asarray(rmap).reshape(-1)[wall])
+        #: the bottom face in unilateral contact with the plate (else held on it)
+        self.bottom_contact = getattr(params, "bottom", "held") == "contact"
+        bottom = fem.locate_dofs_topological(Vz, 1, facets.find(BOTTOM)) if self.bottom_contact else wall[:0]
+        self._bottom = (Vz.tabulate_dof_coordinates()[bottom], np.asarray(zmap).reshape(-1)[bottom],
+                        np.asarray(rmap).reshape(-1)[bottom])
         #: the platen displacement as an unknown (``path = fundamental``), else None
         self.platen_state = None
         lift = None
         if getattr(params, "path", "stable") == "fundamental":
             self.platen_state = self.ctx.real_state("platen_displacement")
             lift = ufl.as_vector([0, self.platen_state * self._platen_shape(Vz, msh.comm)])
+        if self.bottom_contact:
+            facets = self._tag_sealed_bottom(msh, facets)
         self.ctx.kin = AxisymmetricSolid(self.u, quadrature_degree=4, cell_tags=data.cell_tags,
                                          facet_tags=facets, lift=lift)
 
@@ -97,11 +115,29 @@ class Crater:
                              if params.self_contact > 0 else None)
         self.strain = 0.0
         self.bcs = self._bcs(V, facets)
-        self.cavity = Cavity(self.walls)
+        # a bottom face that lifts off the plate inside the seal bounds the cavity too: where it
+        # lies on the plate (z = 0) it adds no volume and no load
+        self.cavity = (Cavity((*self.walls, SEALED_BOTTOM), CONTACT_GAP * geometry.crater_radius)
+                       if self.bottom_contact else Cavity(self.walls))
+        if self.bottom_contact:  # the area the fluid pulls on: d V / d (a lift of the whole specimen)
+            lift = fem.Function(V)
+            lift.interpolate(lambda x: np.vstack([0 * x[0], 1 + 0 * x[0]]))
+            self.wetted_area = fem.form(ufl.derivative(self.cavity.volume(self.ctx.kin), self.u, lift))
         self.volume = fem.form(self.cavity.volume(self.ctx.kin))
         self.rim = PointEvaluator(msh, [geometry.crater_radius, 0.0]).expression(self.u[0])
         self.mesh = msh
         self.cell_tags, self.facet_tags = data.cell_tags, facets
+
+    def _tag_sealed_bottom(self, msh, facets):
+        """``facets`` with the bottom face inside :data:`SEAL_REACH` of the rim retagged
+        ``SEALED_BOTTOM``: the part of the bottom face that bounds the cavity where it lifts."""
+        a, Rs = self.geometry.crater_radius, self.geometry.radius
+        self.seal_reach = a + SEAL_REACH * (Rs - a)
+        values = facets.values.copy()
+        bottom = facets.find(BOTTOM)
+        midpoints = mesh.compute_midpoints(msh, 1, bottom)
+        values[np.isin(facets.indices, bottom[midpoints[:, 0] < self.seal_reach])] = SEALED_BOTTOM
+        return mesh.meshtags(msh, 1, facets.indices, values)
 
     def terms(self, *fluid) -> list:
         """The solid, the wall's surface energy and self-contact (if any), the fluid, and the
@@ -132,13 +168,13 @@ class Crater:
         return 0.0 - real_value(self.platen_state) / self.params.specimen_height  # no -0.0 at rest
 
     def _bcs(self, V, facets):
-        return [component(V, 0, facets.find(AXIS)), component(V, 1, facets.find(BOTTOM)),
-                component(V, 1, facets.find(TOP), self.platen)]
+        held = [] if self.bottom_contact else [component(V, 1, facets.find(BOTTOM))]
+        return [component(V, 0, facets.find(AXIS)), *held, component(V, 1, facets.find(TOP), self.platen)]
 
     def observe(self, stage: str, eps: float, V1: float | None = None) -> dict:
         V0, A0 = self.geometry.crater_volume, math.pi * self.geometry.crater_radius**2
         V = global_sum(self.volume)
-        A = math.pi * self.open_radius() ** 2
+        A = global_sum(self.wetted_area) if self.bottom_contact else math.pi * self.open_radius() ** 2
         p = real_value(self.ctx.states["fluid_pressure"]) if "fluid_pressure" in self.ctx.states and V1 else 1.0
         if V1 == 0.0:
             p = 0.0  # closed crater: vacuum
@@ -146,8 +182,9 @@ class Crater:
                 "F_tilde": (1 - p) * A / A0, "V": V}
 
     def contact_bounds(self, problem):
-        """z = Z + u_z >= 0 on the crater wall (frictionless contact with the plate), as
-        bounds of the variational-inequality solver; every other unknown is free."""
+        """z = Z + u_z >= 0 on the crater wall (frictionless contact with the plate), and on
+        the bottom face where it is in contact rather than held, as bounds of the
+        variational-inequality solver; every other unknown is free."""
         lower = [fem.Function(s.function_space) for s in problem.states]
         upper = [fem.Function(s.function_space) for s in problem.states]
         for f in lower:
@@ -158,6 +195,8 @@ class Crater:
         Vz, zmap = V.sub(1).collapse()
         Z = Vz.tabulate_dof_coordinates()[self._wall_dofs, 1]
         lower[problem.names.index("displacement")].x.array[np.asarray(zmap).reshape(-1)[self._wall_dofs]] = -Z
+        X, bottom, _ = self._bottom
+        lower[problem.names.index("displacement")].x.array[bottom] = -X[:, 1]
         problem.set_bounds(lower, upper)
 
     def wave_check(self, problem, terms):
@@ -171,8 +210,11 @@ class Crater:
         X, zdofs, _ = self._wall
         tolerance = 1e-9 * self.geometry.crater_radius
 
+        Xb, zb, _ = self._bottom
+
         def check():
-            on_plate = zdofs[X[:, 1] + self.u.x.array[zdofs] <= tolerance]
+            on_plate = np.concatenate([zdofs[X[:, 1] + self.u.x.array[zdofs] <= tolerance],
+                                       zb[Xb[:, 1] + self.u.x.array[zb] <= tolerance]])
             return analysis.scan(range(1, self.params.waves + 1), held=on_plate)
 
         return check
@@ -181,8 +223,20 @@ class Crater:
         """Current radius of the edge of the suction area, where the crater wall leaves
         the plate (located inside its element, :mod:`bcfem.contact_edge`). The pressure on
         the wall has the vertical resultant Δp π r_edge² whatever the wall's shape above
-        (an overhang cancels), so A = π r_edge²."""
-        return self.plate_edge(np.ones(len(self._wall[0]), dtype=bool))
+        (an overhang cancels), so A = π r_edge². With the bottom face in contact the edge is
+        the sealed contact line: where the surface leaves the plate on the way from the far
+        bottom face over the rim into the crater (a rim lifted off the plate moves it out)."""
+        if not self.bottom_contact:
+            return self.plate_edge(np.ones(len(self._wall[0]), dtype=bool))
+        (Xw, zw, rw), (Xb, zb, rb) = self._wall, self._bottom
+        # the rim's node is on both: once
+        zdofs, once = np.unique(np.concatenate([zw, zb]), return_index=True)
+        X, rdofs = np.vstack([Xw, Xb])[once], np.concatenate([rw, rb])[once]
+        # along the surface: the bottom face from outside in (below 0), then the wall up (its Z)
+        order = np.concatenate([Xw[:, 1], self.geometry.crater_radius - Xb[:, 0]])[once]
+        x = np.column_stack([X[:, 0] + self.u.x.array[rdofs], X[:, 1] + self.u.x.array[zdofs]])
+        return contact_edge.plate_edge(self.mesh.comm, X[:, :2], x, 1e-6 * self.geometry.crater_radius,
+                                       order=order)
 
     def plate_edge(self, part: np.ndarray) -> float:
         """The current radius where the wall nodes ``part`` (a mask of the wall's dofs) leave

@@ -38,6 +38,8 @@ PETSc prefixes: bcfem_crater_load_ and bcfem_crater_unload_."""
 
 #: ``--path``: the load-stepped path that relaxes past instabilities, or the branch from rest
 PATHS = ("stable", "fundamental")
+#: ``--bottom``: the bottom face held on the plate, or in unilateral contact with it
+BOTTOMS = ("held", "contact")
 #: the crater fluids (the terms are ``bcfem.fluids.FLUIDS``)
 FLUID_NAMES = ("air", "liquid")
 #: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
@@ -123,6 +125,11 @@ class Params:
         "stretches (no relaxation), recording folds and the unstable modes at each point; it ends "
         "at the preload, at closure, at eps = 0.85, or where it cannot go on (reported)",
         choices=PATHS))
+    bottom: str = field(default="held", metadata=describe(
+        "the bottom face on the plate: held (u_z = 0, sliding freely: ambient pressure holds a sealed "
+        "interface down) or contact (frictionless unilateral contact, free to lift off: the "
+        "dissertation's model; the suction area is then the one the sealed contact line encloses)",
+        choices=BOTTOMS))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage; a path that "
         "snaps more often fails (a deepening crease)", bound=Bound(0, 1000, integer=True)))
@@ -130,11 +137,15 @@ class Params:
     #: solver budgets: they decide whether a path gets through, never where it goes, so a
     #: sweep reuses a solved point whatever its budget (and retries one that ran out)
     BUDGETS = ("max_snaps",)
+    #: parameters added after the maps of docs/figures were solved: a sweep point's digest leaves
+    #: them out at their default (:func:`bcfem.sweep.point_key`), so those points stay valid
+    LATER = ("bottom",)
 
     def __post_init__(self):
         check_bounds(self)
         require(self.path in PATHS, f"--path must be one of {list(PATHS)} (got {self.path!r})")
         require(self.fluid in FLUID_NAMES, f"--fluid must be one of {list(FLUID_NAMES)} (got {self.fluid!r})")
+        require(self.bottom in BOTTOMS, f"--bottom must be one of {list(BOTTOMS)} (got {self.bottom!r})")
         a = self.crater_radius
         require(a < self.specimen_radius,
                 f"--crater-radius must be < --specimen-radius = {self.specimen_radius:g} mm (got {a:g})")

@@ -183,9 +183,20 @@ class CraterCycle:
         if reached < 0:
             path.events.append({"stage": "unload", "eps": reached, "kind": "lift", "unstable": None,
                                 "detail": "zero platen force only beyond the specimen's original height"})
-        if reached == last["value"]:
-            return reached
-        return path.root(last, reached, lambda: global_sum(platen_force), xtol=1e-10 * max(preload, 1e-3))
+        if reached != last["value"]:
+            reached = path.root(last, reached, lambda: global_sum(platen_force), xtol=1e-10 * max(preload, 1e-3))
+        run.results["plate_reaction_tilde"] = self._plate_reaction(model, unloading)
+        return reached
+
+    def _plate_reaction(self, model, problem) -> float:
+        """The plate's push on the specimen over p_a A0: the residual's vertical work on the
+        nodes held by the plate (w = 1 - Z/H, zero on the top face). At zero platen force it
+        balances the suction, (p_a - p) A2 (a check of A2, the sealed contact line's area)."""
+        H = self.params.specimen_height
+        w = fem.Function(model.u.function_space)
+        w.interpolate(lambda x: np.vstack([0 * x[0], 1 - x[1] / H]))
+        reaction = global_sum(fem.form(ufl.derivative(problem.lagrangian, model.u, w)))
+        return reaction / (math.pi * model.geometry.crater_radius**2)
 
 
 def load_to_closure(model, path: LoadPath, run, bisections: int = 10) -> tuple[float, bool]:
