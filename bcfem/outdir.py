@@ -2,9 +2,9 @@
 files of an earlier run that this run does not write again.
 
 The lock is ``.bcfem.lock``, created exclusively by rank 0 with its pid and host, and removed
-at the end. A lock left by a process that is gone from this host (killed) is taken over; a
-live one refuses the run. Only the files an earlier run's ``summary.json`` lists as its own
-are ever removed, so a user's files in the directory are never touched.
+at the end. A lock left by a process that is gone from this host (killed) is taken over, with
+that run's temporary files; a live one refuses the run. Only the files an earlier run's
+``summary.json`` lists as its own are ever removed, so a user's files are never touched.
 """
 
 from __future__ import annotations
@@ -78,8 +78,19 @@ def _lock(out: Path) -> bool:
             raise OutDirError(f"--out {out}: cannot write there ({err.strerror})") from None
         with os.fdopen(fd, "w") as f:
             json.dump(_me(), f)
+        _clear_leftovers(out)
         return created
     raise OutDirError(f"--out {out} is in use by another run")
+
+
+def _clear_leftovers(out: Path) -> None:
+    """Remove the temporary files of runs killed before they could rename them (under the
+    lock no other run writes here): ``.<name>.*.tmp``, ``.<name>.*.tmp.png``, ``.fields*.tmp.bp``."""
+    for path in [*out.glob(".*.tmp"), *out.glob(".*.tmp.png"), *out.glob(".fields*.tmp.bp")]:
+        if path.is_dir() and not path.is_symlink():
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            path.unlink(missing_ok=True)
 
 
 def _owner(lock: Path) -> dict | None:
