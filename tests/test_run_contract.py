@@ -167,8 +167,10 @@ def test_a_killed_runs_lock_is_taken_over(tmp_path, in_process):
     gone.wait()
     out = tmp_path / "stale"
     _lock(out, gone.pid)
+    (out / f".fields.{gone.pid}.tmp.bp").mkdir()  # what the killed run was writing
     assert in_process([*TINY, "--out", str(out)]) == 0
     assert not (out / ".bcfem.lock").exists() and strict(out / "summary.json")["status"] == "ok"
+    assert not list(out.glob(".*"))
 
 
 @pytest.mark.serial
