@@ -203,13 +203,15 @@ class LoadPath:
             k += int(sign)
         return current
 
-    def bisect(self, before: dict, after: float, passed: Callable[[float], bool], bisections: int) -> float:
+    def bisect(self, before: dict, after: float, passed: Callable[[float], bool], bisections: int,
+               end_before: bool = False) -> float:
         """Where ``passed`` (a predicate of the state at a load) turns true, between the
         :meth:`mark` ``before`` (not passed) and the current state at load ``after`` (passed):
         ``bisections`` halvings of the bracket, or fewer if Newton cannot reach a midpoint (the
         event is then a snap inside the bracket). Each trial starts from the last state before
-        the event; the path ends at the first state found past it, whose load is returned.
-        ``bracket`` keeps the final (before, after) loads."""
+        the event; the path ends at the first state found past it, whose load is returned (with
+        ``end_before``: at the last state found before it). ``bracket`` keeps the final
+        (before, after) loads."""
         past = self.mark(after)
         for _ in range(bisections):
             low = self.rewind(before)
@@ -222,9 +224,9 @@ class LoadPath:
                 after, past = middle, self.mark(middle)
             else:
                 before = self.mark(middle)
-        self.rewind(past)
+        self.rewind(before if end_before else past)
         self.bracket = (before["value"], after)
-        return after
+        return before["value"] if end_before else after
 
     def root(self, before: dict, after: float, function: Callable[[], float], xtol: float) -> float:
         """The load between the :meth:`mark` ``before`` and the current state at ``after`` where

@@ -75,7 +75,7 @@ def test_liquid_small_preload_approaches_eshelby():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("variant", [[], ["--fluid", "liquid", "--layer-thickness", "0.05", "--layer-stiffness", "10"],
-                                     ["--bottom", "contact"]],
+                                     ["--bottom", "contact", "--retract", "0.05"]],
                          ids=["air", "liquid-layer", "bottom-contact"])
 def test_cycle_outputs_and_mpi(tmp_path, variant):
     args = ["run", "crater", "--preload", "0.08", "--strain-step", "0.02", "--waves", "3", "--quiet", *variant]
@@ -86,13 +86,16 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
         assert res.returncode == 0, res.stderr
         summaries.append(json.loads((out / "summary.json").read_text()))
         header = (out / "branch.csv").read_text().splitlines()[0].split(",")
-        assert header == ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
+        assert header == ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat", "platen_force"]
         assert (out / "cycle.png").stat().st_size > 10_000
     serial, parallel = summaries
     assert parallel["ranks"] == 2
     for key in ("F_tilde", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0"):
         assert parallel[key] == pytest.approx(serial[key], rel=1e-8)
     assert parallel["instabilities"] == serial["instabilities"] and serial["symmetry_breaking"] == {}
+    if "--retract" in variant:
+        assert serial["pull_off"]["kind"] == parallel["pull_off"]["kind"] == "the seal opens"
+        assert parallel["pull_off"]["platen_force"] == pytest.approx(serial["pull_off"]["platen_force"], rel=1e-8)
     # suction: the air pressure dropped and the crater sprang back only partly
     assert serial["p2_over_pa"] < 1
     if "liquid" not in variant:  # air: the crater sprang back only partly, and little air leaks
@@ -197,3 +200,26 @@ def test_a_bottom_face_in_contact_lifts_at_the_rim_and_pulls_on_the_wetted_area(
     assert contact["p2_over_pa"] == pytest.approx(held["p2_over_pa"], abs=1e-3)
     assert 1 < contact["A2_over_A0"] / held["A2_over_A0"] < 1.05
     assert abs(contact["fluid_law_residual"]) < 1e-10
+
+
+@pytest.mark.slow
+def test_retraction_pulls_the_specimen_off_where_the_seal_opens():
+    """--retract: past zero force the platen pulls; the plate's push falls until the seal opens,
+    and there the pull is the suction force itself (nothing else holds the specimen). The
+    cycle up to zero force is the one without retraction, row for row."""
+    coarse = dict(preload=0.2, size_crater=0.12, strain_step=0.05, bottom="contact")
+    plain, summary = crater.solve(crater.Params(**coarse), MPI.COMM_WORLD)
+    rows, retracted = crater.solve(crater.Params(retract=0.1, **coarse), MPI.COMM_WORLD)
+    assert rows[:len(plain)] == plain
+    assert retracted["F_tilde"] == summary["F_tilde"]
+    pull = [r for r in rows if r["stage"] == "retract"]
+    assert pull and all(b["platen_force"] > a["platen_force"] for a, b in zip(pull, pull[1:]))
+    off = retracted["pull_off"]
+    assert off["kind"] == "the seal opens" and -0.1 < off["eps"] < 0
+    assert off["platen_force"] == pytest.approx(off["F_tilde"], rel=1e-2)  # the push left: O(the bisection)
+    assert off["platen_force"] > summary["F_tilde"] > 0
+
+
+def test_retraction_needs_a_bottom_that_can_lift(tmp_path):
+    res = bcfem("run", "crater", "--retract", "0.05", "--out", tmp_path / "r", timeout=120)
+    assert res.returncode == 2 and "--bottom contact" in res.stderr and not (tmp_path / "r").exists()

@@ -46,7 +46,7 @@ class FundamentalCycle:
 
     name = "crater"
     stages = ("load", "unload")
-    columns = (*COLUMNS, "s", "platen_force", "unstable", "unstable_waves")
+    columns = (*COLUMNS, "s", "unstable", "unstable_waves")
 
     def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
         self.params = params

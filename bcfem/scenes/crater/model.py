@@ -15,6 +15,7 @@ a term of the unloading stage (:mod:`bcfem.fluids`); units: pressures in p_a (so
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 
 from mpi4py import MPI
 
@@ -114,6 +115,8 @@ class Crater:
         self.self_contact = (WallSelfContact(facets, self.walls, stiffest, penalty=params.self_contact)
                              if params.self_contact > 0 else None)
         self.strain = 0.0
+        #: the platen's force of the stage being solved (:meth:`measuring`), else None
+        self.platen_force = None
         self.bcs = self._bcs(V, facets)
         # a bottom face that lifts off the plate inside the seal bounds the cavity too: where it
         # lies on the plate (z = 0) it adds no volume and no load
@@ -178,8 +181,24 @@ class Crater:
         p = real_value(self.ctx.states["fluid_pressure"]) if "fluid_pressure" in self.ctx.states and V1 else 1.0
         if V1 == 0.0:
             p = 0.0  # closed crater: vacuum
+        force = global_sum(self.platen_force) / A0 if self.platen_force is not None else None
         return {"stage": stage, "eps": eps, "V_over_V0": V / V0, "p_over_pa": p, "A_over_A0": A / A0,
-                "F_tilde": (1 - p) * A / A0, "V": V}
+                "F_tilde": (1 - p) * A / A0, "platen_force": force, "V": V}
+
+    @contextmanager
+    def measuring(self, problem):
+        """Within: the rows report the platen's force, ``platen_force`` (the Lagrangian of
+        ``problem`` differentiated in w = Z/H e_z, which moves the top face alone by 1; < 0
+        pressing, > 0 pulling). Self-contact is left out: its forces pair up on the wall, so
+        their work in w is the contact force times gap / H, negligible."""
+        w = fem.Function(self.u.function_space)
+        H = self.params.specimen_height
+        w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / H]))
+        self.platen_force = fem.form(ufl.derivative(problem.lagrangian, self.u, w))
+        try:
+            yield self.platen_force
+        finally:
+            self.platen_force = None
 
     def contact_bounds(self, problem):
         """z = Z + u_z >= 0 on the crater wall (frictionless contact with the plate), and on
@@ -218,6 +237,15 @@ class Crater:
             return analysis.scan(range(1, self.params.waves + 1), held=on_plate)
 
         return check
+
+    def on_plate(self) -> bool:
+        """Whether a node of the wall or of the bottom face lies on the plate (collective): with
+        the bottom face in contact, none once the specimen has pulled off."""
+        tolerance = 1e-6 * self.geometry.crater_radius
+        touching = False
+        for X, zdofs, _ in (self._wall, self._bottom):
+            touching |= bool(np.any(X[:, 1] + self.u.x.array[zdofs] <= tolerance))
+        return self.mesh.comm.allreduce(touching, op=MPI.LOR)
 
     def open_radius(self) -> float:
         """Current radius of the edge of the suction area, where the crater wall leaves

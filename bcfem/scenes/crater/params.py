@@ -25,6 +25,7 @@ Units and normalisations:
   preload eps    = -dL / L of the specimen
   V/V0, A/A0     crater volume and projected area over their values at rest
   F_tilde        = F / (p_a A0) = (1 - V1/V2) A2/A0
+  platen_force   = the platen's force over p_a A0: < 0 pressing, > 0 pulling (--retract)
 The wall is in frictionless contact with the plate and does not pass through
 itself (penalty self-contact). surface_energy regularises creasing of the wall.
 Instabilities (the tangent's inertia) and snaps (steps passed by pseudo-time
@@ -70,7 +71,7 @@ class ClosureCriteria:
 
 CLOSURE_CRITERIA = ClosureCriteria()
 #: the columns of ``branch.csv``
-COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat"]
+COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat", "platen_force"]
 #: the stability classes, in the order of ``stability_code``
 STABILITY = ["stable", "unstable-unloading", "unstable-both"]
 
@@ -130,6 +131,10 @@ class Params:
         "interface down) or contact (frictionless unilateral contact, free to lift off: the "
         "dissertation's model; the suction area is then the one the sealed contact line encloses)",
         choices=BOTTOMS))
+    retract: float = field(default=0.0, metadata=describe(
+        "after unloading, lift the platen on to eps = -retract (past the specimen's original height; "
+        "stage 'retract', --bottom contact): the suction force, p and A along the way, and pull-off "
+        "where the seal opens or the platen's pull peaks; 0: no retraction", "1", bound=Bound(0, 0.5)))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage; a path that "
         "snaps more often fails (a deepening crease)", bound=Bound(0, 1000, integer=True)))
@@ -139,13 +144,17 @@ class Params:
     BUDGETS = ("max_snaps",)
     #: parameters added after the maps of docs/figures were solved: a sweep point's digest leaves
     #: them out at their default (:func:`bcfem.sweep.point_key`), so those points stay valid
-    LATER = ("bottom",)
+    LATER = ("bottom", "retract")
 
     def __post_init__(self):
         check_bounds(self)
         require(self.path in PATHS, f"--path must be one of {list(PATHS)} (got {self.path!r})")
         require(self.fluid in FLUID_NAMES, f"--fluid must be one of {list(FLUID_NAMES)} (got {self.fluid!r})")
         require(self.bottom in BOTTOMS, f"--bottom must be one of {list(BOTTOMS)} (got {self.bottom!r})")
+        require(self.retract == 0 or self.bottom == "contact",
+                f"--retract needs --bottom contact: a bottom face held on the plate cannot separate "
+                f"(got {self.bottom})")
+        require(self.retract == 0 or self.path == "stable", "--retract follows the stable path (--path stable)")
         a = self.crater_radius
         require(a < self.specimen_radius,
                 f"--crater-radius must be < --specimen-radius = {self.specimen_radius:g} mm (got {a:g})")

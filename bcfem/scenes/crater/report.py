@@ -7,11 +7,13 @@ from bcfem.theory.crater import permeation_estimate
 
 
 def finish(run, model, final: dict, V1: float, closed: bool, preload: float, zero_force: float,
-           events: list, final_unstable: int) -> None:
-    """Record the cycle's last row and its results in ``run``; ``final_unstable``: the unstable
-    axisymmetric modes of the final state (> 0: F is that of an unstable equilibrium, a saddle)."""
+           events: list, final_unstable: int, recorded: bool = False) -> None:
+    """Record the cycle's zero-force row (unless ``recorded``: a retraction went on from it) and
+    its results in ``run``; ``final_unstable``: the unstable axisymmetric modes of the final
+    state (> 0: F is that of an unstable equilibrium, a saddle)."""
     params, geometry = model.params, model.geometry
-    run.record(final)
+    if not recorded:
+        run.record(final)
     for row in run.rows:
         row["F_hat"] = row["F_tilde"] / params.beta
     run.results.update({

@@ -105,7 +105,8 @@ class CraterCycle:
         solver = {"snes_type": "vinewtonrsls", **(CAREFUL if careful else {})}
         kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
 
-        with run.stage("load", model.ctx, model.terms(), model.bcs, solver, **kwargs) as loading:
+        with run.stage("load", model.ctx, model.terms(), model.bcs, solver, **kwargs) as loading, \
+                model.measuring(loading):
             model.contact_bounds(loading)
             if careful:
                 loading.bound_steps()
@@ -130,24 +131,65 @@ class CraterCycle:
             model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
         fluid = Vacuum(model.cavity) if closed else FLUIDS[params.fluid](model.cavity, V1)
         terms = model.terms(fluid)
-        with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading:
+        with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading, \
+                model.measuring(unloading) as platen_force:
             model.contact_bounds(unloading)
             if careful:
                 unloading.bound_steps()
             path = self._path(unloading, model.set_platen, "unload", events,
                               model.wave_check(unloading, terms))
-            zero_force = self._unload(model, path, unloading, preload, 0.0 if closed else V1, closed, run)
-            final = model.observe("unload", model.strain, 0.0 if closed else V1)
-        finish(run, model, final, V1, closed, preload, zero_force, events, path.unstable)
+            V1_sealed = 0.0 if closed else V1
+            zero_force = self._unload(model, path, unloading, platen_force, preload, V1_sealed, closed, run)
+            final = model.observe("unload", model.strain, V1_sealed)
+            if params.retract > 0:
+                run.record(final)
+                run.results["pull_off"] = self._retract(model, path, V1_sealed, run)
+        finish(run, model, final, V1, closed, preload, zero_force, events, path.unstable,
+               recorded=params.retract > 0)
 
-    def _unload(self, model, path, unloading, preload: float, V1_sealed: float, closed: bool, run) -> float:
+    def _retract(self, model, path, V1_sealed: float, run, bisections: int = 8) -> dict | None:
+        """Lift the platen from zero force on to eps = -retract, recording the rows; stop at
+        pull-off: where the platen's pull peaks, or where the seal opens (no node of the bottom
+        face or the wall is left on the plate: located by bisection, the last sealed state
+        recorded). Returns the pull-off state, or None if neither happens up to -retract."""
+        last: dict = {}
+        sealed, opened = path.mark(model.strain), None
+
+        def accept(strain) -> bool:
+            nonlocal sealed, opened
+            if not model.on_plate():
+                opened = strain
+                return True
+            row = model.observe("retract", strain, V1_sealed)
+            run.record(row)
+            if last and row["platen_force"] < last["platen_force"]:
+                last["kind"] = "the pull peaks"
+                return True
+            last.update(row)
+            sealed = path.mark(strain)
+            return False
+
+        try:
+            path.through(model.strain, -self.params.retract, self.params.strain_step, accept)
+        except SteppingError as failure:  # nothing holds the specimen down any more
+            if not last:
+                raise
+            last["kind"] = f"no equilibrium further on ({failure})"
+        if opened is not None:
+            strain = path.bisect(sealed, opened, lambda strain: not model.on_plate(), bisections, end_before=True)
+            if strain != sealed["value"]:  # a later sealed state than the last row
+                last.update(model.observe("retract", strain, V1_sealed))
+                run.record(dict(last))
+            last["kind"] = "the seal opens"
+        if "kind" not in last:
+            return None
+        return {"kind": last["kind"], **{k: last[k] for k in ("eps", "platen_force", "F_tilde", "p_over_pa",
+                                                             "A_over_A0")}}
+
+    def _unload(self, model, path, unloading, platen_force, preload: float, V1_sealed: float, closed: bool,
+                run) -> float:
         """Retract the platen from ``preload`` to zero force; returns the strain there."""
-        params, H = self.params, self.params.specimen_height
-        # self-contact is left out: its forces pair up on the wall, so their work in w is the
-        # contact force times gap / H, negligible
-        w = fem.Function(model.u.function_space)
-        w.interpolate(lambda x: np.vstack([0 * x[0], x[1] / H]))
-        platen_force = fem.form(ufl.derivative(unloading.lagrangian, model.u, w))  # compression < 0
+        params = self.params
         path.start()
         if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
             ramp = model.ctx.constant("vacuum_load")
