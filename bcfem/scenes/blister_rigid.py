@@ -115,11 +115,11 @@ class Params:
 
     CHOICES: ClassVar[dict] = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
     BOUNDS: ClassVar[dict] = {
-        "Jm": Bound(1e-2, 1e6), "alpha": Bound(0, 1e3), "v_max": Bound(0, 1e3, open_low=True),
+        "Jm": Bound(1e-2, 1e6), "alpha": Bound(0, 1e8), "v_max": Bound(0, 1e3, open_low=True),
         "v_start": Bound(0, 1e3, open_low=True, open_high=True), "cells": Bound(2, 20_000, integer=True),
         "degree": Bound(1, 4, integer=True), "stiffness": Bound(1e-8, 1e6),
-        "phi_Y_deg": Bound(0, 180, open_low=True, open_high=True), "adhesion": Bound(-1e3, 1e3),
-        "outer_radius": Bound(1, 1e3, open_low=True, open_high=True), "far_field": Bound(-1e3, 1e3),
+        "phi_Y_deg": Bound(0, 180, open_low=True, open_high=True), "adhesion": Bound(-1e8, 1e8),
+        "outer_radius": Bound(1, 1e3, open_low=True, open_high=True), "far_field": Bound(-1e8, 1e8),
         "stop_radius": Bound(1, 1e3, open_low=True, also=(math.inf,)), "start_volume": Bound(0, 1e3)}
 
     def __post_init__(self):

@@ -114,8 +114,8 @@ class Params:
 
     CHOICES: ClassVar[dict] = {"material": sorted(MATERIALS), "edge": list(EDGES)}
     BOUNDS: ClassVar[dict] = {
-        "Jm": Bound(1e-2, 1e6), "stiffness_ratio": Bound(1e-3, 1e6), "alpha": Bound(0, 1e3),
-        "gamma_ls": Bound(0, 1e3), "delta_gamma": Bound(0, 1e3), "size_factor": Bound(1, 100, open_low=True),
+        "Jm": Bound(1e-2, 1e6), "stiffness_ratio": Bound(1e-3, 1e6), "alpha": Bound(0, 1e6),
+        "gamma_ls": Bound(0, 1e6), "delta_gamma": Bound(0, 1e6), "size_factor": Bound(1, 100, open_low=True),
         "v_max": Bound(0, 1e3, open_low=True), "v_start": Bound(0, 1e3, open_low=True, open_high=True),
         "size_contact": Bound(1e-4, 0.5), "size_far": Bound(1e-3, 100, also=(0.0,)),
         "growth": Bound(1, 2, open_low=True), "refine": Bound(0, 6, integer=True), "kappa_ratio": Bound(10, 1e8)}
