@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import math
 
-from bcfem.fluids import FLUIDS, HeldPressure
+from bcfem.cavitation import change_phase, liquid_or_vapour, phase_change
+from bcfem.fluids import FLUIDS
 from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
 from bcfem.scenes.crater.report import classify, symmetry_breaking
@@ -53,7 +54,7 @@ class DoubleCraterCycle:
             return []
         fluid, held = FLUIDS[self.params.fluid], self.params.cavitation
         cavities = [self.model.cavity] if self.chambers == 1 else self.model.chambers
-        return [HeldPressure(c, held, name) if vapour else fluid(c, n, name)
+        return [liquid_or_vapour(fluid, c, n, name, vapour, held)
                 for c, n, name, vapour in zip(cavities, self.amounts, self._names(), self.vapour)]
 
     def pressures(self) -> tuple[float, float]:
@@ -113,19 +114,17 @@ class DoubleCraterCycle:
         volume fell back to the liquid's)."""
         (p1, p2), (V1, V2) = self.pressures(), self.volumes()
         chamber = next(i for i in range(self.chambers) if self._phase_changes(i))
-        self.vapour[chamber] = kind == "cavitation"
-        if kind == "collapse":  # the liquid's pressure starts from the vapour's
-            self.model.ctx.real_state(self._names()[chamber]).x.array[:] = self.params.cavitation
+        self.vapour[chamber] = change_phase(self.model.ctx, self._names()[chamber], kind, self.params.cavitation)
         return {"eps": eps, "chamber": ("C1", "C2")[chamber] if self.chambers == 2 else "one",
                 "p_c1_over_pa": p1, "p_c2_over_pa": p2, "V_c1": V1 / self.V0, "V_c2": V2 / self.V0}
 
-    def _phase_changes(self, i: int) -> bool:
-        """Chamber i cavitates (liquid below p_v) or its vapour collapses (V below the liquid's)."""
+    def _phase_changes(self, i: int) -> str | None:
+        """Whether chamber i cavitates (liquid below p_v) or its vapour collapses (V below the
+        liquid's): ``cavitation``, ``collapse`` or None."""
         if not (self.sealed and self.params.fluid == "liquid"):
-            return False
-        if self.vapour[i]:
-            return self.volumes()[i] < self.amounts[i]
-        return self.pressures()[i] < self.params.cavitation
+            return None
+        return phase_change(self.vapour[i], self.pressures()[i], self.volumes()[i], self.amounts[i],
+                            self.params.cavitation)
 
     def _change(self) -> str | None:
         """The change of the chambers in this state: the sidewall touches the protuberance
@@ -136,10 +135,7 @@ class DoubleCraterCycle:
             return "split"
         if self.chambers == 2 and not touching and self.params.contact == "separable":
             return "merge"
-        for i in range(self.chambers):
-            if self._phase_changes(i):
-                return "collapse" if self.vapour[i] else "cavitation"
-        return None
+        return next((kind for kind in map(self._phase_changes, range(self.chambers)) if kind), None)
 
     # -- observables ----------------------------------------------------------------------
     def observe(self, stage: str, eps: float) -> dict:
