@@ -1,12 +1,15 @@
 """The air-filled crater's suction cycle (ch. 7), in the range without wall-plate contact."""
 
+import csv
 import json
+import math
 
 from mpi4py import MPI
 
 import pytest
 from helpers import bcfem
 
+from bcfem.cavitation import BISECTIONS
 from bcfem.scenes import crater
 from bcfem.theory.crater import eshelby_air, eshelby_liquid
 
@@ -223,3 +226,85 @@ def test_retraction_pulls_the_specimen_off_where_the_seal_opens():
 def test_retraction_needs_a_bottom_that_can_lift(tmp_path):
     res = bcfem("run", "crater", "--retract", "0.05", "--out", tmp_path / "r", timeout=120)
     assert res.returncode == 2 and "--bottom contact" in res.stderr and not (tmp_path / "r").exists()
+
+
+#: a liquid that cavitates early on a coarse mesh: unloading from 0.2, its pressure falls to
+#: 0.9 p_a near eps = 0.1 (water's 0.023 p_a needs a preload of about 0.35)
+CAVITATING = dict(fluid="liquid", preload=0.2, cavitation=0.9, size_crater=0.12, strain_step=0.025)
+
+
+def test_a_cavitated_liquid_holds_its_vapour_pressure():
+    p_v = CAVITATING["cavitation"]
+    rows, summary = crater.solve(crater.Params(**CAVITATING), MPI.COMM_WORLD)
+    event = summary["cavitation"]
+    assert summary["phase_changes"] == [event] and event["kind"] == "cavitation" and event["stage"] == "unload"
+    assert event["bracket"] <= CAVITATING["strain_step"] * 2.0**-BISECTIONS
+    assert p_v - 0.01 < event["p_over_pa"] < p_v  # located where the liquid's pressure crosses p_v
+    unload = [r for r in rows if r["stage"] == "unload"]
+    liquid = [r for r in unload if r["eps"] > event["eps"]]
+    vapour = [r for r in unload if r["eps"] <= event["eps"]]
+    assert liquid and vapour and unload == liquid + vapour
+    V1 = summary["V1_over_V0"]
+    for r in liquid:  # the liquid holds its volume, above the vapour pressure
+        assert r["p_over_pa"] > p_v and r["V_over_V0"] == pytest.approx(V1, rel=1e-9)
+    for r in vapour:  # cavitated: p_v held, the volume free and above the liquid's
+        assert r["p_over_pa"] == pytest.approx(p_v, abs=1e-15) and r["V_over_V0"] > V1
+    assert summary["p2_over_pa"] == pytest.approx(p_v, abs=1e-15) and summary["fluid_law_residual"] == 0.0
+    assert summary["F_tilde"] == pytest.approx((1 - p_v) * summary["A2_over_A0"], rel=1e-12)
+
+
+@pytest.mark.slow
+def test_without_cavitation_the_liquid_cycle_is_unchanged():
+    """The default (-inf) leaves the check out; a vapour pressure the liquid never reaches
+    (-1e3 p_a, where the preload 0.4 takes it to -0.3 p_a past a snap) checks every step and
+    changes nothing: the same rows as the default to round-off."""
+    base = dict(fluid="liquid", preload=0.4)
+    default, summary = crater.solve(crater.Params(**base), MPI.COMM_WORLD)
+    assert summary["p2_over_pa"] < 0 and summary["cavitation"] is None
+    for cavitation in (-math.inf, -1e3):
+        rows, summary = crater.solve(crater.Params(**base, cavitation=cavitation), MPI.COMM_WORLD)
+        assert summary["phase_changes"] == [] and len(rows) == len(default)
+        for row, expected in zip(rows, default):
+            assert row.keys() == expected.keys()
+            for key, value in row.items():
+                if isinstance(value, float):
+                    assert value == pytest.approx(expected[key], rel=1e-12, abs=1e-14), (row, key)
+                else:
+                    assert value == expected[key]
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+def test_cavitation_on_two_ranks_equals_serial(tmp_path):
+    flags = [x for k, v in CAVITATING.items() for x in (f"--{k.replace('_', '-')}", str(v))]
+    summaries, branches = [], []
+    for ranks in (1, 2):
+        out = tmp_path / f"n{ranks}"
+        res = bcfem("run", "crater", *flags, "--quiet", "--no-plots", "--out", out, ranks=ranks)
+        assert res.returncode == 0, res.stderr
+        summaries.append(json.loads((out / "summary.json").read_text()))
+        with open(out / "branch.csv") as f:
+            branches.append(list(csv.DictReader(f)))
+    (serial, parallel), (rows, rows_2) = summaries, branches
+    assert parallel["ranks"] == 2 and serial["cavitation"] is not None
+    assert parallel["cavitation"]["eps"] == pytest.approx(serial["cavitation"]["eps"], abs=1e-12)
+    for key in ("F_tilde", "V2_over_V0", "p2_over_pa", "A2_over_A0", "eps_at_zero_force"):
+        assert parallel[key] == pytest.approx(serial[key], rel=1e-8)
+    assert len(rows) == len(rows_2)
+    for a, b in zip(rows, rows_2):  # the zero force's eps is a root: equal to its round-off
+        assert float(a["eps"]) == pytest.approx(float(b["eps"]), abs=1e-10)
+        assert float(a["p_over_pa"]) == pytest.approx(float(b["p_over_pa"]), rel=1e-8)
+
+
+@pytest.mark.parametrize("args, word", [
+    (["--cavitation", "1"], "cavitation"),
+    (["--cavitation", "-2000"], "cavitation"),
+    (["--cavitation", "nan"], "cavitation"),
+    (["--cavitation", "water"], "cavitation"),
+    (["--fluid", "liquid", "--cavitation", "0.023", "--path", "fundamental"], "--cavitation"),
+    (["--fluid", "liquid", "--cavitation", "0.023", "--bottom", "contact", "--retract", "0.05"], "--cavitation"),
+])
+def test_bad_cavitation_exits_2_before_meshing(tmp_path, args, word):
+    out = tmp_path / "bad"
+    res = bcfem("run", "crater", *args, "--out", out, timeout=120)
+    assert res.returncode == 2 and word in res.stderr and not out.exists(), res.stderr

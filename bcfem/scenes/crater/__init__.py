@@ -9,6 +9,7 @@ first use, so the command line checks the parameters before any of it.
 from __future__ import annotations
 
 import importlib
+import math
 
 from bcfem.scenes.crater.params import (
     CLOSURE_CRITERIA,
@@ -56,6 +57,8 @@ def sweep_point(params: Params, comm) -> dict:
                                      "eps_at_zero_force", "preload", "eps_m", "stability", "final_unstable_modes")}
     point["stability_code"] = STABILITY.index(summary["stability"])  # a number for contour maps
     point["retraced"] = summary["retraced"] is not None
+    if params.cavitation != -math.inf:  # where the liquid cavitates on unloading (None: it does not)
+        point["eps_cavitation"] = summary["cavitation"]["eps"] if summary["cavitation"] else None
     if params.waves:
         point["stability_waves"] = summary["stability_waves"]
         point["symmetry_code"] = STABILITY.index(summary["stability_waves"])

@@ -6,6 +6,7 @@ parameters and constants without loading the finite-element stack.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from bcfem.geometry.crater import CraterGeometry
@@ -16,7 +17,9 @@ DESCRIPTION = """\
 A neo-Hookean specimen (nearly incompressible, Taylor-Hood u-p) with a
 spherical-cap crater in its bottom face is pressed on a rigid plate with the
 vent open (stage 'load'), then sealed and unloaded to zero platen force (stage
-'unload'); the air obeys p V = p_a V1, a liquid keeps V = V1.
+'unload'); the air obeys p V = p_a V1, a liquid keeps V = V1 (with
+--cavitation p_v/p_a: until its pressure falls to p_v; it then holds p_v, its
+volume free, until the vapour collapses: summary.json 'phase_changes').
 
 Units and normalisations:
   pressures      in p_a = 101.325 kPa;  beta = mu / p_a
@@ -135,6 +138,11 @@ class Params:
         "after unloading, lift the platen on to eps = -retract (past the specimen's original height; "
         "stage 'retract', --bottom contact): the suction force, p and A along the way, and pull-off "
         "where the seal opens or the platen's pull peaks; 0: no retraction", "1", bound=Bound(0, 0.5)))
+    cavitation: float = field(default=-math.inf, metadata=describe(
+        "p_v / p_a: a liquid whose pressure falls to it on unloading cavitates and holds it, its "
+        "volume free, until the vapour collapses (water at 20 C: 0.023); -inf: no cavitation, the "
+        "liquid takes any tension; not used for air", "1",
+        bound=Bound(-1e3, 1, open_high=True, also=(-math.inf,))))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage; a path that "
         "snaps more often fails (a deepening crease)", bound=Bound(0, 1000, integer=True)))
@@ -144,7 +152,7 @@ class Params:
     BUDGETS = ("max_snaps",)
     #: parameters added after the maps of docs/figures were solved: a sweep point's digest leaves
     #: them out at their default (:func:`bcfem.sweep.point_key`), so those points stay valid
-    LATER = ("bottom", "retract")
+    LATER = ("bottom", "retract", "cavitation")
 
     def __post_init__(self):
         check_bounds(self)
@@ -155,6 +163,9 @@ class Params:
                 f"--retract needs --bottom contact: a bottom face held on the plate cannot separate "
                 f"(got {self.bottom})")
         require(self.retract == 0 or self.path == "stable", "--retract follows the stable path (--path stable)")
+        cavitates = self.cavitation != -math.inf and self.fluid == "liquid"
+        require(not cavitates or (self.path == "stable" and self.retract == 0),
+                "--cavitation is followed on the stable path's unloading only (--path stable, --retract 0)")
         a = self.crater_radius
         require(a < self.specimen_radius,
                 f"--crater-radius must be < --specimen-radius = {self.specimen_radius:g} mm (got {a:g})")

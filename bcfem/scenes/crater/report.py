@@ -7,10 +7,11 @@ from bcfem.theory.crater import permeation_estimate
 
 
 def finish(run, model, final: dict, V1: float, closed: bool, preload: float, zero_force: float,
-           events: list, final_unstable: int, recorded: bool = False) -> None:
+           events: list, final_unstable: int, recorded: bool = False, vapour: bool = False) -> None:
     """Record the cycle's zero-force row (unless ``recorded``: a retraction went on from it) and
     its results in ``run``; ``final_unstable``: the unstable axisymmetric modes of the final
-    state (> 0: F is that of an unstable equilibrium, a saddle)."""
+    state (> 0: F is that of an unstable equilibrium, a saddle); ``vapour``: a liquid that ends
+    cavitated, at its held vapour pressure."""
     params, geometry = model.params, model.geometry
     if not recorded:
         run.record(final)
@@ -21,8 +22,9 @@ def finish(run, model, final: dict, V1: float, closed: bool, preload: float, zer
         "V1_over_V0": V1 / geometry.crater_volume,
         "V2_over_V0": final["V_over_V0"], "p2_over_pa": final["p_over_pa"], "A2_over_A0": final["A_over_A0"],
         "preload": preload, "eps_at_zero_force": zero_force,
-        # the fluid's equation of state at the end of stage 2: p V = V1 (air), V = V1 (liquid)
-        "fluid_law_residual": 0.0 if closed else
+        # the fluid's equation of state at the end of stage 2: p V = V1 (air), V = V1 (liquid);
+        # a cavitated liquid's p = p_v holds exactly (its pressure is not an unknown)
+        "fluid_law_residual": 0.0 if closed or vapour else
         (final["p_over_pa"] if params.fluid == "air" else 1.0) * final["V"] / V1 - 1,
         "eps_closure": first_closure(run.rows, geometry.crater_volume),
         "eps_m": preload if params.preload == PRELOAD_TO_CLOSURE and closed else None,

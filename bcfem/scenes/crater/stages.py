@@ -28,9 +28,10 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from bcfem.cavitation import BISECTIONS, change_phase, liquid_or_vapour, phase_change
 from bcfem.fluids import FLUIDS, Vacuum
 from bcfem.log import progress
-from bcfem.mpi import global_sum
+from bcfem.mpi import global_sum, real_value
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import (
     CLOSURE_CRITERIA,
@@ -101,7 +102,8 @@ class CraterCycle:
         model = self.model = self.model_class(params, self.comm)
         run.watch([model.u])
         events: list[dict] = []
-        run.results.update(instabilities=events, retraced=None)
+        phase_changes: list[dict] = []
+        run.results.update(instabilities=events, retraced=None, phase_changes=phase_changes, cavitation=None)
         solver = {"snes_type": "vinewtonrsls", **(CAREFUL if careful else {})}
         kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
 
@@ -129,23 +131,41 @@ class CraterCycle:
             return
         if not closed:
             model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
-        fluid = Vacuum(model.cavity) if closed else FLUIDS[params.fluid](model.cavity, V1)
-        terms = model.terms(fluid)
-        with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading, \
-                model.measuring(unloading) as platen_force:
-            model.contact_bounds(unloading)
-            if careful:
-                unloading.bound_steps()
-            path = self._path(unloading, model.set_platen, "unload", events,
-                              model.wave_check(unloading, terms))
-            V1_sealed = 0.0 if closed else V1
-            zero_force = self._unload(model, path, unloading, platen_force, preload, V1_sealed, closed, run)
-            final = model.observe("unload", model.strain, V1_sealed)
-            if params.retract > 0:
-                run.record(final)
-                run.results["pull_off"] = self._retract(model, path, V1_sealed, run)
-        finish(run, model, final, V1, closed, preload, zero_force, events, path.unstable,
-               recorded=params.retract > 0)
+        V1_sealed = 0.0 if closed else V1
+        # one problem per phase of the liquid: a cavitation or a collapse swaps its term
+        vapour, start = False, preload
+        while True:
+            fluid = Vacuum(model.cavity) if closed else liquid_or_vapour(
+                FLUIDS[params.fluid], model.cavity, V1, "fluid_pressure", vapour, params.cavitation)
+            terms = model.terms(fluid)
+            with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading, \
+                    model.measuring(unloading) as platen_force:
+                model.contact_bounds(unloading)
+                if careful:
+                    unloading.bound_steps()
+                path = self._path(unloading, model.set_platen, "unload", events,
+                                  model.wave_check(unloading, terms))
+                if start != preload:  # the state at the phase change, with the new phase's term
+                    if not path.solve_at(start, fallbacks=True):
+                        raise SteppingError(f"unload: no equilibrium after the {phase_changes[-1]['kind']} at "
+                                            f"eps = {start:.6g}: {unloading.failure}", start)
+                    run.record(model.observe("unload", start, V1_sealed))
+                ended = self._unload(model, path, unloading, platen_force, start, V1_sealed, closed, run, vapour)
+                if isinstance(ended, dict):
+                    phase_changes.append(ended)
+                    if ended["kind"] == "cavitation" and run.results["cavitation"] is None:
+                        run.results["cavitation"] = ended
+                    progress(f"unload: {ended['kind']} at eps = {ended['eps']:.6g}")
+                    vapour = change_phase(model.ctx, "fluid_pressure", ended["kind"], params.cavitation)
+                    start = ended["eps"]
+                    continue
+                final = model.observe("unload", model.strain, V1_sealed)
+                if params.retract > 0:
+                    run.record(final)
+                    run.results["pull_off"] = self._retract(model, path, V1_sealed, run)
+            break
+        finish(run, model, final, V1, closed, preload, ended, events, path.unstable,
+               recorded=params.retract > 0, vapour=vapour)
 
     def _retract(self, model, path, V1_sealed: float, run, bisections: int = 8) -> dict | None:
         """Lift the platen from zero force on to eps = -retract, recording the rows; stop at
@@ -187,10 +207,19 @@ class CraterCycle:
                                                              "A_over_A0")}}
 
     def _unload(self, model, path, unloading, platen_force, preload: float, V1_sealed: float, closed: bool,
-                run) -> float:
-        """Retract the platen from ``preload`` to zero force; returns the strain there."""
+                run, vapour: bool = False) -> float | dict:
+        """Retract the platen from ``preload`` to zero force; returns the strain there, or, if
+        the liquid cavitates or its vapour (``vapour``) collapses first, that event, located by
+        bisection (the path then ends at the first state past it)."""
         params = self.params
         path.start()
+
+        def changed() -> str | None:
+            if V1_sealed == 0.0 or params.fluid != "liquid" or params.cavitation == -math.inf:
+                return None
+            p = real_value(model.ctx.states["fluid_pressure"])
+            return phase_change(vapour, p, global_sum(model.volume), V1_sealed, params.cavitation)
+
         if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
             ramp = model.ctx.constant("vacuum_load")
             sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", path.viscosity,
@@ -207,7 +236,7 @@ class CraterCycle:
         last = path.mark(preload)
 
         def accept(strain):
-            if global_sum(platen_force) >= 0:
+            if global_sum(platen_force) >= 0 or changed():
                 return True
             run.record(model.observe("unload", strain, V1_sealed))
             last.update(path.mark(strain))
@@ -220,13 +249,22 @@ class CraterCycle:
             reached = preload
         else:
             reached = path.through(preload, -MAX_LIFT, params.strain_step, accept)
-        if global_sum(platen_force) < round_off:
+        kind = changed()
+        if kind is None and global_sum(platen_force) < round_off:
             raise SteppingError(f"unload: the platen force is still compressive at eps = {reached:.4g}", reached)
+        if kind is None or global_sum(platen_force) >= 0:  # zero force: does the phase change before it?
+            if reached != last["value"]:
+                reached = path.root(last, reached, lambda: global_sum(platen_force),
+                                    xtol=1e-10 * max(preload, 1e-3))
+            kind = changed()
+        if kind is not None:
+            eps = path.bisect(last, reached, lambda _: changed() is not None, BISECTIONS)
+            return {"stage": "unload", "kind": kind, "eps": eps, "bracket": abs(path.bracket[1] - path.bracket[0]),
+                    "p_over_pa": real_value(model.ctx.states["fluid_pressure"]),
+                    "V_over_V0": global_sum(model.volume) / model.geometry.crater_volume}
         if reached < 0:
             path.events.append({"stage": "unload", "eps": reached, "kind": "lift", "unstable": None,
                                 "detail": "zero platen force only beyond the specimen's original height"})
-        if reached != last["value"]:
-            reached = path.root(last, reached, lambda: global_sum(platen_force), xtol=1e-10 * max(preload, 1e-3))
         run.results["plate_reaction_tilde"] = self._plate_reaction(model, unloading)
         return reached
 
