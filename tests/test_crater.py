@@ -308,3 +308,15 @@ def test_bad_cavitation_exits_2_before_meshing(tmp_path, args, word):
     out = tmp_path / "bad"
     res = bcfem("run", "crater", *args, "--out", out, timeout=120)
     assert res.returncode == 2 and word in res.stderr and not out.exists(), res.stderr
+
+
+def test_a_liquid_crater_closed_on_loading_cavitates_as_air_leaves_a_vacuum():
+    """Closed on loading, no liquid holds the wall: it cavitates at the seal. At p_v = 0 the
+    vapour is the air crater's vacuum, row for row; without cavitation F = 0 (eq. 8.8)."""
+    closed = dict(preload=0.45, size_crater=0.12, strain_step=0.05)
+    air, air_summary = crater.solve(crater.Params(**closed), MPI.COMM_WORLD)
+    rows, summary = crater.solve(crater.Params(fluid="liquid", cavitation=0.0, **closed), MPI.COMM_WORLD)
+    assert summary["cavitation"]["eps"] == 0.45 and "cavitates" in summary["closure_note"]
+    assert rows == air and summary["F_tilde"] == air_summary["F_tilde"] > 0.5
+    _, held = crater.solve(crater.Params(fluid="liquid", **closed), MPI.COMM_WORLD)
+    assert held["F_tilde"] == 0.0 and held["cavitation"] is None

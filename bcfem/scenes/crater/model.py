@@ -179,8 +179,8 @@ class Crater:
         V = global_sum(self.volume)
         A = global_sum(self.wetted_area) if self.bottom_contact else math.pi * self.open_radius() ** 2
         p = real_value(self.ctx.states["fluid_pressure"]) if "fluid_pressure" in self.ctx.states and V1 else 1.0
-        if V1 == 0.0:
-            p = 0.0  # closed crater: vacuum
+        if V1 == 0.0:  # closed crater: the vacuum's suction s = 1 - p (p = p_v for a cavitated liquid)
+            p = 1.0 - float(self.ctx.constant("vacuum_load").value)
         force = global_sum(self.platen_force) / A0 if self.platen_force is not None else None
         return {"stage": stage, "eps": eps, "V_over_V0": V / V0, "p_over_pa": p, "A_over_A0": A / A0,
                 "F_tilde": (1 - p) * A / A0, "platen_force": force, "V": V}

@@ -140,8 +140,9 @@ class Params:
         "where the seal opens or the platen's pull peaks; 0: no retraction", "1", bound=Bound(0, 0.5)))
     cavitation: float = field(default=-math.inf, metadata=describe(
         "p_v / p_a: a liquid whose pressure falls to it on unloading cavitates and holds it, its "
-        "volume free, until the vapour collapses (water at 20 C: 0.023); -inf: no cavitation, the "
-        "liquid takes any tension; not used for air", "1",
+        "volume free, until the vapour collapses; a crater closed on loading holds vapour from the "
+        "seal (water at 20 C: 0.023); -inf: no cavitation, the liquid takes any tension and a closed "
+        "crater stays closed; not used for air", "1",
         bound=Bound(-1e3, 1, open_high=True, also=(-math.inf,))))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage; a path that "

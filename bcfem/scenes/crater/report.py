@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from bcfem.scenes.crater.params import CLOSURE_CRITERIA, PRELOAD_TO_CLOSURE
 from bcfem.theory.crater import permeation_estimate
 
@@ -47,11 +49,16 @@ def closure_note(params, closed: bool, preload: float, V1_over_V0: float, V2_ove
     if not closed:
         return f"does not close up to eps = {preload:g}: the cycle runs from there" \
             if params.preload == PRELOAD_TO_CLOSURE else None
-    note = ("closed on loading: an incompressible liquid crater stays closed, F = 0 (eq. 8.8)"
-            if params.fluid == "liquid" else "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)")
+    held = params.fluid == "liquid" and params.cavitation == -math.inf  # V2 = V1 = 0: nothing opens it
+    if params.fluid == "air":
+        note = "closed on loading: vacuum inside, F = p_a A2 (eq. 7.17)"
+    elif held:
+        note = "closed on loading: an incompressible liquid crater stays closed, F = 0 (eq. 8.8)"
+    else:
+        note = "closed on loading: the liquid cavitates, vapour at p_v inside, F = (p_a - p_v) A2"
     if V1_over_V0 > CLOSURE_CRITERIA.closed:
         note += f"; a trapped remnant V1 = {V1_over_V0:.2g} V0 is neglected"
-    if params.fluid == "air" and V2_over_V0 <= CLOSURE_CRITERIA.volume:
+    if not held and V2_over_V0 <= CLOSURE_CRITERIA.volume:
         # the vacuum holds the flattened wall on the plate (a soft or shallow crater)
         note += (f"; it stays closed after unloading (V2 = {V2_over_V0:.2g} V0): no cavity, so A2 and "
                  f"F are ~0 (the force to peel a closed crater off the plate is not this measure)")

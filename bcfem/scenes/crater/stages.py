@@ -124,7 +124,8 @@ class CraterCycle:
         V1 = run.rows[-1]["V"]
         # full closure: nothing left inside (closure mode neglects a trapped remnant)
         closed = V1 <= CLOSURE_CRITERIA.closed * model.geometry.crater_volume or closes
-        if closed and params.fluid == "liquid":
+        cavitates = params.fluid == "liquid" and params.cavitation != -math.inf
+        if closed and params.fluid == "liquid" and not cavitates:
             # an incompressible liquid crater that closed stays closed: V2 = V1 = 0, F = 0 (eq. 8.8)
             final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
             finish(run, model, final, V1, closed, preload, preload, events, path.unstable)
@@ -134,6 +135,12 @@ class CraterCycle:
         V1_sealed = 0.0 if closed else V1
         # one problem per phase of the liquid: a cavitation or a collapse swaps its term
         vapour, start = False, preload
+        if closed and cavitates:  # no liquid left to hold the wall down: vapour at p_v once it lifts
+            vapour = True
+            phase_changes.append({"stage": "unload", "kind": "cavitation", "eps": preload, "bracket": 0.0,
+                                  "p_over_pa": params.cavitation, "V_over_V0": V1 / model.geometry.crater_volume,
+                                  "detail": "closed on loading: the cavity holds vapour at p_v from the seal"})
+            run.results["cavitation"] = phase_changes[0]
         while True:
             fluid = Vacuum(model.cavity) if closed else liquid_or_vapour(
                 FLUIDS[params.fluid], model.cavity, V1, "fluid_pressure", vapour, params.cavitation)
@@ -220,14 +227,15 @@ class CraterCycle:
             p = real_value(model.ctx.states["fluid_pressure"])
             return phase_change(vapour, p, global_sum(model.volume), V1_sealed, params.cavitation)
 
-        if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
+        if closed:  # the suction of a closed crater jumps from 0 to p_a (p_a - p_v): ramp it at fixed platen
             ramp = model.ctx.constant("vacuum_load")
             sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", path.viscosity,
                                path.relax_stiffness, path.multipliers, events=path.events,
                                max_snaps=params.max_snaps, waves=path.waves, load_name="vacuum_ramp")
             sealing.start()
             first = len(path.events)
-            sealing.advance(0.0, 1.0, 0.25)
+            suction = 1.0 - params.cavitation if vapour else 1.0
+            sealing.advance(0.0, suction, 0.25 * suction)
             for event in path.events[first:]:  # report the platen strain; the ramp value goes in the detail
                 event.update(detail=f"{event['detail']} (vacuum ramp at {event.pop('vacuum_ramp'):.3g})",
                              eps=preload)
