@@ -184,7 +184,7 @@ def run_to_a_status(argv: list[str], out) -> tuple[int, dict | None, str]:
         _, stderr = process.communicate(timeout=PATIENCE_S)
     except subprocess.TimeoutExpired:
         process.send_signal(signal.SIGINT)
-        _, stderr = process.communicate(timeout=60)
+        _, stderr = process.communicate(timeout=300)  # a signal during meshing waits for gmsh
     summary = out / "summary.json"
     return process.returncode, json.loads(summary.read_text()) if summary.exists() else None, stderr
 
