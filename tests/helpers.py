@@ -46,3 +46,25 @@ def same_loads(rows, reference, load: str, rtol: float = 1e-9) -> list[tuple[dic
         if match is not None:
             pairs.append((row, match))
     return pairs
+
+
+def refused(*args, out) -> str:
+    """``bcfem ARGS --out OUT`` run in this process, as bad input: it must exit 2 with one line
+    on stderr and write nothing at ``out``. Returns that line. (A process per bad value would
+    spend 0.6 s starting up; test_cli starts one for the unknown scene.)"""
+    import contextlib
+    import io
+
+    import pytest
+
+    from bcfem import cli
+
+    stderr = io.StringIO()
+    with contextlib.redirect_stderr(stderr), contextlib.redirect_stdout(io.StringIO()):
+        with pytest.raises(SystemExit) as exit_:
+            cli.main([*map(str, args), "--out", str(out)])
+    lines = stderr.getvalue().splitlines()
+    assert exit_.value.code == 2, (args, lines)
+    assert len(lines) == 1, (args, lines)
+    assert not Path(out).exists() or not any(Path(out).iterdir()), args
+    return lines[0]

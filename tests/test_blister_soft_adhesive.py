@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 import ufl
 from dolfinx import fem
-from helpers import bcfem, same_loads
+from helpers import bcfem, refused, same_loads
 from test_blister_soft import SMALL, W, assert_battery, taylor_of
 
 from bcfem import global_sum
@@ -212,7 +212,6 @@ def test_an_inverting_substrate_fails_with_a_clear_message(tmp_path):
 @pytest.mark.serial
 def test_a_block_too_small_for_the_moving_front_exits_2_before_meshing(tmp_path):
     out = tmp_path / "out"
-    result = bcfem("run", "blister-soft", "--edge", "adhesive", "--size-factor", "2", "--out", out)
-    assert result.returncode == 2, result.stderr
-    assert "size-factor" in result.stderr and "adhesive" in result.stderr
+    line = refused("run", "blister-soft", "--edge", "adhesive", "--size-factor", "2", out=out)
+    assert "size-factor" in line and "adhesive" in line
     assert not out.exists()

@@ -7,7 +7,7 @@ import math
 from mpi4py import MPI
 
 import pytest
-from helpers import bcfem
+from helpers import bcfem, refused
 
 from bcfem.cavitation import BISECTIONS
 from bcfem.scenes import crater
@@ -130,9 +130,7 @@ def test_cycle_outputs_and_mpi(tmp_path, variant):
     (["--path", "relaxed"], "path"),
 ])
 def test_bad_crater_input_exits_2_before_meshing(tmp_path, args, word):
-    out = tmp_path / "bad"
-    res = bcfem("run", "crater", *args, "--out", out, timeout=120)
-    assert res.returncode == 2 and word in res.stderr and not out.exists()
+    assert word in refused("run", "crater", *args, out=tmp_path / "bad")
 
 
 @pytest.mark.slow
@@ -224,8 +222,7 @@ def test_retraction_pulls_the_specimen_off_where_the_seal_opens():
 
 
 def test_retraction_needs_a_bottom_that_can_lift(tmp_path):
-    res = bcfem("run", "crater", "--retract", "0.05", "--out", tmp_path / "r", timeout=120)
-    assert res.returncode == 2 and "--bottom contact" in res.stderr and not (tmp_path / "r").exists()
+    assert "--bottom contact" in refused("run", "crater", "--retract", "0.05", out=tmp_path / "r")
 
 
 #: a liquid that cavitates early on a coarse mesh: unloading from 0.2, its pressure falls to
@@ -305,9 +302,7 @@ def test_cavitation_on_two_ranks_equals_serial(tmp_path):
     (["--fluid", "liquid", "--cavitation", "0.023", "--bottom", "contact", "--retract", "0.05"], "--cavitation"),
 ])
 def test_bad_cavitation_exits_2_before_meshing(tmp_path, args, word):
-    out = tmp_path / "bad"
-    res = bcfem("run", "crater", *args, "--out", out, timeout=120)
-    assert res.returncode == 2 and word in res.stderr and not out.exists(), res.stderr
+    assert word in refused("run", "crater", *args, out=tmp_path / "bad")
 
 
 def test_a_liquid_crater_closed_on_loading_cavitates_as_air_leaves_a_vacuum():

@@ -6,9 +6,7 @@ draws through the command line: exit 0, or exit 1 with ``status: failed`` and a 
 a time limit, SIGINT and ``status: interrupted`` (exit 130), never a traceback.
 """
 
-import contextlib
 import dataclasses
-import io
 import json
 import math
 import os
@@ -18,16 +16,15 @@ import sys
 import time
 
 import pytest
-from helpers import BIN
+from helpers import BIN, refused
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from bcfem import cli
 from bcfem.params import bound_of, flag
 from bcfem.scenes import REGISTRY, STUDIES
 
 #: drawn in the same order on every machine; explore with --hypothesis-seed
-FAST = settings(max_examples=25, deadline=None, derandomize=True, database=None,
+FAST = settings(max_examples=15, deadline=None, derandomize=True, database=None,
                 suppress_health_check=[HealthCheck.too_slow])
 #: the full draw (make test-all: the marker 'slow' is selected there)
 FULL = settings(FAST, max_examples=200)
@@ -92,21 +89,6 @@ def command(scene: str, name: str, value, kind: str = "run") -> list[str]:
     return ["run", scene, flag(name), text(value)]
 
 
-def refused(argv: list[str], tmp_path) -> str:
-    """Run the command line in this process; it must exit 2 with one line on stderr and
-    write nothing. Returns that line."""
-    out = tmp_path / "out"
-    stderr = io.StringIO()
-    with contextlib.redirect_stderr(stderr), contextlib.redirect_stdout(io.StringIO()):
-        with pytest.raises(SystemExit) as exit_:
-            cli.main([*argv, "--out", str(out), "--quiet"])
-    lines = stderr.getvalue().splitlines()
-    assert exit_.value.code == 2, (argv, lines)
-    assert len(lines) == 1, (argv, lines)
-    assert not out.exists(), argv
-    return lines[0]
-
-
 KINDS = {"run": list(REGISTRY), "sweep": list(STUDIES), "fit": ["blister-rigid"]}
 CASES = [(kind, scene, name, bound) for kind, scenes in KINDS.items()
          for scene, name, bound in PARAMETERS if scene in scenes]
@@ -124,7 +106,7 @@ def test_a_value_out_of_range_exits_2_naming_the_flag(tmp_path_factory, kind, sc
     @DRAW
     @given(value=values)
     def check(value):
-        line = refused(command(scene, name, value, kind), tmp_path_factory.mktemp("bad"))
+        line = refused(*command(scene, name, value, kind), "--quiet", out=tmp_path_factory.mktemp("bad") / "out")
         where = "--grid" if kind == "sweep" else flag(name)
         assert where in line and "Traceback" not in line, line
 
@@ -158,7 +140,7 @@ def test_a_fit_target_out_of_range_exits_2(tmp_path_factory, target):
     def check(value):
         targets = {"aspect": "0.5", "P1": "3", target: text(value)}
         argv = ["fit", "blister-rigid", *(x for k, v in targets.items() for x in (f"--{k}", v))]
-        assert f"--{target}" in refused(argv, tmp_path_factory.mktemp("fit"))
+        assert f"--{target}" in refused(*argv, out=tmp_path_factory.mktemp("fit") / "out")
 
     check()
 
