@@ -43,6 +43,7 @@ bench: venv
 	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/newtonal_vs_bordered.py
 	$(BIN)/python benchmarks/crater_air.py
 	$(BIN)/python benchmarks/crater_design.py
+	$(BIN)/python benchmarks/crater_closure.py
 	$(BIN)/python benchmarks/crater_regulariser.py
 	$(BIN)/python benchmarks/crater_double.py
 	$(BIN)/python benchmarks/blister_soft.py
