@@ -315,7 +315,8 @@ def _gather(points, out: Path, claims: Path, comm, count, wall: float, pooled: i
                 "core_seconds_per_solved_point": (wall * comm.size if pooled == 1 else seconds) / total_done},
                 comm)
         reasons = failures(rows)
-        io.write_json(out / "summary.json", {"status": "failed" if reasons else "ok", "error": None,
+        error = f"{sum(reasons.values())} of {len(rows)} points failed" if reasons else None
+        io.write_json(out / "summary.json", {"status": "failed" if reasons else "ok", "error": error,
                                              "points": len(rows), "finished": len(rows),
                                              "failed": sum(reasons.values()), "failures": reasons}, comm)
     logger.info(f"sweep: {total_done} points solved, {total_skipped} reused, "

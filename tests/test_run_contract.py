@@ -272,3 +272,4 @@ def test_a_sweep_with_failed_points_exits_1_and_counts_why(tmp_path):
     assert "2 of 2 points failed" in res.stderr and "2 x ContinuationError" in res.stderr
     summary = strict(out / "summary.json")
     assert summary["status"] == "failed" and summary["failed"] == 2 and sum(summary["failures"].values()) == 2
+    assert summary["error"] == "2 of 2 points failed"
