@@ -1,0 +1,105 @@
+"""The three-dimensional blister: a membrane on its flat reference outline, clamped along
+it, inflated at a pressure traced by arc-length (the terms of ``blister-rigid`` on
+:class:`bcfem.planar_membrane.PlanarMembrane` kinematics)."""
+
+from __future__ import annotations
+
+import math
+
+from mpi4py import MPI
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx.fem.petsc import LinearProblem
+
+from bcfem.context import Context
+from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
+from bcfem.geometry.outline import EDGE, create_mesh
+from bcfem.mpi import cell_maximum, global_sum, real_value
+from bcfem.planar_membrane import PlanarMembrane
+from bcfem.scene import Scene
+from bcfem.scenes.blister_3d.params import COLUMNS, V0, Params
+from bcfem.theory.membrane import simple_membrane_pressure
+
+
+def bulge_shape(V, edge_dofs) -> np.ndarray:
+    """The small-deflection shape of a membrane under uniform tension and pressure on the
+    outline, -Δw = 1 with w = 0 on the edge, over its maximum (owned and ghost values)."""
+    msh = V.mesh
+    w, q = ufl.TrialFunction(V), ufl.TestFunction(V)
+    bc = fem.dirichletbc(0.0, edge_dofs, V)
+    solution = LinearProblem(ufl.inner(ufl.grad(w), ufl.grad(q)) * ufl.dx, q * ufl.dx, bcs=[bc],
+                             petsc_options_prefix="bcfem_blister_3d_guess_",
+                             petsc_options={"ksp_type": "preonly", "pc_type": "lu"}).solve()
+    peak = msh.comm.allreduce(float(solution.x.array.max(initial=0.0)), op=MPI.MAX)
+    return solution.x.array / peak
+
+
+def build(params: Params, comm, extra_terms=()) -> Scene:
+    """The blister of ``params`` (see :mod:`bcfem.scenes.blister_3d.params`)."""
+    data = create_mesh(params.geometry(), comm)
+    msh = data.mesh
+    V = fem.functionspace(msh, ("Lagrange", params.degree, (3,)))
+    u = fem.Function(V, name="displacement")
+    ctx = Context(u)
+    ctx.kin = PlanarMembrane(u, quadrature_degree=2 * params.degree + 2)
+    edge_facets = data.facet_tags.find(EDGE)
+    fdim = msh.topology.dim - 1
+    bcs = [fem.dirichletbc(np.zeros(3), fem.locate_dofs_topological(V, fdim, edge_facets), V)]
+    terms = [MembraneStrain(params.material_model())]
+    if params.alpha > 0:
+        terms.append(SurfaceTension(params.alpha))
+    terms.append(PressureVolume())
+    terms.extend(extra_terms)
+
+    S, _ = V.sub(0).collapse()
+    components = [V.sub(c).collapse()[1] for c in range(3)]  # S's dofs in u's array, per component
+    shape = bulge_shape(S, fem.locate_dofs_topological(S, fdim, edge_facets))
+    X = S.tabulate_dof_coordinates()[:, :2]
+    bulge = fem.Function(S)
+    bulge.x.array[:] = shape
+    shape_area = global_sum(fem.form(bulge * ufl.dx))
+
+    def start(fraction: float = 1.0) -> float:
+        """u: the bulge shape of apex h with a volume V/V0 = fraction v-start (to first
+        order), its points moved outward by (2/3) h^2 ŵ X as on a cap of uniform stretch, so
+        the centre is stretched too; returns a pressure guess."""
+        v = fraction * params.v_start
+        h = v * V0 / shape_area
+        values = np.zeros((len(shape), 3))
+        values[:, :2] = (2.0 / 3.0) * h**2 * shape[:, None] * X
+        values[:, 2] = h * shape
+        for c, dofs in enumerate(components):
+            u.x.array[dofs] = values[:, c]
+        return min(float(simple_membrane_pressure(v)), 2.0) + 2.0 * params.alpha * 2 * h
+
+    kin = ctx.kin
+    volume = fem.form(kin.integral(kin.volume_density))
+    energy = fem.form(sum(t.energy(ctx) for t in terms))
+    pressure = ctx.real_state("pressure")
+    degree = params.degree
+    I1 = cell_maximum(msh, kin.I1 - 3, degree)
+    stretch = cell_maximum(msh, kin.principal_stretches()[0], degree)
+    heights = components[2]
+
+    def observe() -> dict:
+        apex = msh.comm.allreduce(float(u.x.array[heights].max(initial=-np.inf)), op=MPI.MAX)
+        return {"V_over_V0": global_sum(volume) / V0, "P": real_value(pressure), "aspect": apex,
+                "energy": global_sum(energy) / math.pi, "stretch_max": stretch(), "I1_minus_3_max": I1()}
+
+    def guard(values):
+        if values["V_over_V0"] <= 0:
+            return (f"the blister volume is not positive (V/V0 = {values['V_over_V0']:.3g}, "
+                    f"P = {values['P']:.6g}): the membrane would pass through the substrate")
+        if params.material == "gent" and values["I1_minus_3_max"] > 0.99 * params.Jm:
+            return (f"the Gent membrane is locking: max(I1 - 3) = {values['I1_minus_3_max']:.6g} reached "
+                    f"0.99 Jm (Jm = {params.Jm:g}) at V/V0 = {values['V_over_V0']:.6g}; lower --v-max or raise --Jm")
+        return None
+
+    return Scene(name="blister-3d", ctx=ctx, terms=terms, bcs=bcs, load="pressure", start=start,
+                 observe=observe, end=lambda values: values["V_over_V0"] - params.v_max, grows="V_over_V0",
+                 progress_keys=("V_over_V0", "P", "aspect"), fields=[u], continuation=params.continuation,
+                 plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
+                 load_scale=max(1.0, 2 * params.alpha), guard=guard, params=params, columns=COLUMNS)
+

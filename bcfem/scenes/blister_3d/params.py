@@ -1,0 +1,91 @@
+"""Parameters of ``blister-3d`` and its CLI texts (no dolfinx here).
+
+Lengths are in units of the outline's equivalent radius R0 = sqrt(area / pi), pressures in
+mu_f t0 / R0 and volumes in V0 = 4/3 pi R0^3, as ``blister-rigid``: a circle reproduces it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from bcfem.geometry.outline import KINDS, Outline, read_vertices
+from bcfem.materials import MATERIALS, Gent, NeoHookean
+from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, describe, require
+
+SUMMARY = "membrane blister of any outline on a rigid substrate, in 3-D (ch. 10 outlook)"
+DESCRIPTION = """\
+An inflated incompressible hyperelastic membrane (neo-Hookean or Gent) whose
+initial delamination is a circle, an ellipse, a rectangle or a polygon, clamped
+along that outline on a rigid substrate and filled with a liquid whose
+interface with the membrane has tension gamma_l. The membrane is a flat
+reference mesh of the outline with a three-component displacement (F is 3x2,
+the thickness stretch 1/sqrt(det C)); the free energy is U_f - dp V + gamma_l A
+as for blister-rigid, the pressure a global unknown traced by arc-length
+continuation through its limit points.
+
+Units and normalisations (all inputs and outputs are dimensionless):
+  lengths        by R0 = sqrt(A / pi), A the outline's area
+  P              = dp R0 / (mu_f t0)
+  alpha          = gamma_l / (mu_f t0)
+  V/V0           with V0 = 4/3 pi R0^3
+  aspect         = the apex height max z over R0
+  energy         = Pi / (pi R0^2 mu_f t0)
+Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/fields.bp (VTX: the
+displacement on the reference outline; warp by it in ParaView)."""
+COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "s"]
+EDGES = ("clamped",)
+
+
+@dataclass(frozen=True)
+class Params:
+    """Parameters of ``blister-3d``; each field's help and unit are in its metadata (``--help``)."""
+
+    outline: str = field(default="circle", metadata=describe(
+        "the initial delamination's outline (a polygon's from --vertices)", "", KINDS))
+    aspect: float = field(default=1.0, metadata=describe(
+        "ellipse: major over minor axis; rectangle: long over short side (along x)",
+        bound=Bound(1, 100)))
+    vertices: str = field(default="", metadata=describe(
+        "polygon outline: a text file of 'x y' rows, any scale (scaled to the area pi R0^2)", "path"))
+    material: str = field(default="neo-hookean", metadata=describe(
+        "strain-energy function", "", tuple(sorted(MATERIALS))))
+    Jm: float = field(default=100.0, metadata=describe(
+        "Gent locking limit of I1 - 3 (Gent only)", bound=Bound(1e-2, 1e6)))
+    alpha: float = field(default=0.0, metadata=describe(
+        "elasto-capillary number gamma_l / (mu_f t0)", bound=Bound(0, 1e4)))
+    edge: str = field(default="clamped", metadata=describe("edge condition", "", EDGES))
+    v_max: float = field(default=2.0, metadata=describe(
+        "end of the branch, V/V0", bound=Bound(0, 100, open_low=True)))
+    v_start: float = field(default=0.01, metadata=describe(
+        "start of the branch, V/V0 < v-max", bound=Bound(1e-4, 100, open_high=True)))
+    size: float = field(default=0.1, metadata=describe(
+        "element size over R0", bound=Bound(5e-3, 0.5)))
+    degree: int = field(default=2, metadata=describe(
+        "Lagrange degree of the displacement", "", bound=Bound(1, 3, integer=True)))
+    continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
+
+    def __post_init__(self):
+        check_bounds(self)
+        for name, choices in (("outline", KINDS), ("material", tuple(MATERIALS)), ("edge", EDGES)):
+            require(getattr(self, name) in choices,
+                    f"--{name} must be one of {sorted(choices)} (got {getattr(self, name)!r})")
+        require(self.v_start < self.v_max, f"need --v-start < --v-max (got {self.v_start:g}, {self.v_max:g})")
+        require((self.outline == "polygon") == bool(self.vertices),
+                "--vertices FILE is needed for --outline polygon, and only for it")
+        require(self.aspect == 1.0 or self.outline in ("ellipse", "rectangle"),
+                f"--aspect applies to an ellipse or a rectangle (got --outline {self.outline})")
+        check_meshable(self.geometry().estimated_cells(), "--size")
+
+    def geometry(self) -> Outline:
+        """The reference outline (reads and checks the polygon's file)."""
+        vertices = tuple(map(tuple, read_vertices(self.vertices))) if self.vertices else ()
+        return Outline(self.outline, self.aspect, vertices, self.size)
+
+    def material_model(self):
+        if self.material == "gent":
+            return Gent(mu=1.0, Jm=self.Jm)
+        return NeoHookean(mu=1.0)
+
+
+V0 = 4.0 * math.pi / 3.0

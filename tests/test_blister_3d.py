@@ -1,0 +1,99 @@
+"""blister-3d: the planar-reference membrane against the axisymmetric blister, its mesh
+convergence, its outlines' checks, and 2 ranks against serial."""
+
+import json
+import math
+
+from mpi4py import MPI
+
+import numpy as np
+import pytest
+
+from bcfem.geometry.outline import check_polygon
+from bcfem.runner import branch_of
+from bcfem.scenes import blister_3d
+from tests.helpers import bcfem, refused
+
+#: blister-rigid's P_max, neo-Hookean, alpha = 0 (the axisymmetric scene at 400 P2 cells)
+NEO_HOOKEAN_P_MAX = 1.879173
+
+
+def limit_points(**params):
+    branch = branch_of(blister_3d.build(blister_3d.Params(**params), MPI.COMM_WORLD))
+    return {lp.kind: lp.values for lp in branch.limit_points}
+
+
+def test_circle_reproduces_the_axisymmetric_maximum():
+    top = limit_points(size=0.2, v_max=1.0)["max"]
+    assert top["P"] == pytest.approx(NEO_HOOKEAN_P_MAX, abs=1e-3)
+
+
+def test_gent_circle_has_both_axisymmetric_extrema():
+    """Gent Jm = 100, alpha = 0.5: the N-shaped branch's maximum and minimum, against
+    blister-rigid on the same parameters."""
+    from bcfem.runner import branch_of as trace
+    from bcfem.scenes import blister_rigid
+
+    reference = trace(blister_rigid.build(blister_rigid.Params(material="gent", Jm=100, alpha=0.5, v_max=6),
+                                          MPI.COMM_WORLD))
+    expected = {lp.kind: lp.values["P"] for lp in reference.limit_points}
+    found = limit_points(material="gent", Jm=100, alpha=0.5, v_max=6, size=0.2)
+    for kind in ("max", "min"):
+        assert found[kind]["P"] == pytest.approx(expected[kind], rel=1e-3), kind
+
+
+@pytest.mark.slow
+def test_maximum_converges_at_a_high_rate():
+    """P2 on quadratic cells: the error of P_max against the finest of three meshes (a
+    Richardson-free check: the finest is itself within 1e-5 of the axisymmetric value)."""
+    sizes = (0.4, 0.2, 0.1)
+    errors = [abs(limit_points(size=h, v_max=1.0)["max"]["P"] - NEO_HOOKEAN_P_MAX) for h in sizes]
+    rates = [math.log(errors[i] / errors[i + 1], 2) for i in range(2)]
+    print("P_max errors", errors, "observed rates", rates)
+    assert errors[-1] < 1e-4
+    assert min(rates) > 2.5
+
+
+def test_ellipse_inflates_to_a_rounder_dome():
+    """An ellipse of aspect 2: its apex stays on the centre and its branch has a maximum above
+    the circle's (the short axis curves more at the same volume)."""
+    top = limit_points(outline="ellipse", aspect=2.0, size=0.2, v_max=1.0)["max"]
+    assert top["P"] > NEO_HOOKEAN_P_MAX
+
+
+def test_a_self_intersecting_polygon_is_refused():
+    with pytest.raises(ValueError, match="self-intersecting"):
+        check_polygon(np.array([[0, 0], [1, 1], [1, 0], [0, 1]], dtype=float))
+    check_polygon(np.array([[0, 0], [2, 0], [2, 1], [0, 1]], dtype=float))
+
+
+@pytest.mark.parametrize("argv, name", [
+    (["--outline", "polygon"], "--vertices"),
+    (["--outline", "circle", "--aspect", "2"], "--aspect"),
+    (["--aspect", "0"], "--aspect"),
+    (["--size", "0.001"], "--size"),
+])
+def test_bad_input_exits_2(tmp_path, argv, name):
+    assert name in refused("run", "blister-3d", *argv, out=tmp_path / "out")
+
+
+def test_a_bad_vertex_file_exits_2(tmp_path):
+    bowtie = tmp_path / "bowtie.txt"
+    bowtie.write_text("0 0\n1 1\n1 0\n0 1\n")
+    assert "--vertices" in refused("run", "blister-3d", "--outline", "polygon", "--vertices", bowtie,
+                                   out=tmp_path / "out")
+
+
+@pytest.mark.mpi
+@pytest.mark.serial
+def test_two_ranks_equal_serial(tmp_path):
+    runs = {}
+    for ranks in (1, 2):
+        out = tmp_path / f"n{ranks}"
+        done = bcfem("run", "blister-3d", "--outline", "rectangle", "--aspect", "2", "--size", "0.25",
+                     "--v-max", "1", "--quiet", "--no-plots", "--out", out, ranks=ranks)
+        assert done.returncode == 0, done.stderr
+        runs[ranks] = json.loads((out / "summary.json").read_text())
+    (serial,), (parallel,) = runs[1]["limit_points"], runs[2]["limit_points"]
+    assert parallel["P"] == pytest.approx(serial["P"], rel=1e-9)
+    assert parallel["V_over_V0"] == pytest.approx(serial["V_over_V0"], rel=1e-8)
