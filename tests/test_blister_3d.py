@@ -28,6 +28,7 @@ def test_circle_reproduces_the_axisymmetric_maximum():
     assert top["P"] == pytest.approx(NEO_HOOKEAN_P_MAX, abs=1e-3)
 
 
+@pytest.mark.slow
 def test_gent_circle_has_both_axisymmetric_extrema():
     """Gent Jm = 100, alpha = 0.5: the N-shaped branch's maximum and minimum, against
     blister-rigid on the same parameters."""
@@ -61,6 +62,28 @@ def test_ellipse_inflates_to_a_rounder_dome():
     assert top["P"] > NEO_HOOKEAN_P_MAX
 
 
+def foppl_constant(aspect: float, size: float) -> float:
+    """K = P a^4 / h^3 of a rectangle of half-width a at small deflection (h/a < 0.01)."""
+    scene = blister_3d.build(blister_3d.Params(outline="rectangle", aspect=aspect, size=size, v_start=5e-4,
+                                               v_max=1e-3), MPI.COMM_WORLD)
+    row = branch_of(scene).rows[0]
+    a = math.sqrt(math.pi / aspect) / 2
+    return row["P"] * a**4 / row["aspect"] ** 3
+
+
+def test_long_rectangle_is_the_plane_strain_bulge():
+    """Aspect 8: the plane-strain membrane, p = (4/3) E t h^3 / ((1 - nu^2) a^4) = (16/3) mu t h^3 / a^4
+    for an incompressible material (E = 3 mu, nu = 1/2)."""
+    assert foppl_constant(8, 0.06) == pytest.approx(16 / 3, rel=1e-3)
+
+
+def test_square_bulge_is_vlassak_and_nix():
+    """A square of half-side a: p = (0.8 + 0.062 nu)^-3 E t h^3 / ((1 - nu) a^4) (Vlassak and Nix
+    1992, an energy approximation quoted to about 1 %): 10.456 mu t h^3 / a^4 at nu = 1/2."""
+    vlassak_nix = (0.8 + 0.062 * 0.5) ** -3 * 3 / (1 - 0.5)
+    assert foppl_constant(1, 0.1) == pytest.approx(vlassak_nix, rel=1e-2)
+
+
 def test_a_self_intersecting_polygon_is_refused():
     with pytest.raises(ValueError, match="self-intersecting"):
         check_polygon(np.array([[0, 0], [1, 1], [1, 0], [0, 1]], dtype=float))
@@ -90,7 +113,7 @@ def test_two_ranks_equal_serial(tmp_path):
     runs = {}
     for ranks in (1, 2):
         out = tmp_path / f"n{ranks}"
-        done = bcfem("run", "blister-3d", "--outline", "rectangle", "--aspect", "2", "--size", "0.25",
+        done = bcfem("run", "blister-3d", "--outline", "rectangle", "--aspect", "2", "--size", "0.4",
                      "--v-max", "1", "--quiet", "--no-plots", "--out", out, ranks=ranks)
         assert done.returncode == 0, done.stderr
         runs[ranks] = json.loads((out / "summary.json").read_text())

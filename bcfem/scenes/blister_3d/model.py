@@ -9,9 +9,7 @@ import math
 from mpi4py import MPI
 
 import numpy as np
-import ufl
 from dolfinx import fem
-from dolfinx.fem.petsc import LinearProblem
 
 from bcfem.context import Context
 from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
@@ -20,20 +18,7 @@ from bcfem.mpi import cell_maximum, global_sum, real_value
 from bcfem.planar_membrane import PlanarMembrane
 from bcfem.scene import Scene
 from bcfem.scenes.blister_3d.params import COLUMNS, V0, Params
-from bcfem.theory.membrane import simple_membrane_pressure
-
-
-def bulge_shape(V, edge_dofs) -> np.ndarray:
-    """The small-deflection shape of a membrane under uniform tension and pressure on the
-    outline, -Δw = 1 with w = 0 on the edge, over its maximum (owned and ghost values)."""
-    msh = V.mesh
-    w, q = ufl.TrialFunction(V), ufl.TestFunction(V)
-    bc = fem.dirichletbc(0.0, edge_dofs, V)
-    solution = LinearProblem(ufl.inner(ufl.grad(w), ufl.grad(q)) * ufl.dx, q * ufl.dx, bcs=[bc],
-                             petsc_options_prefix="bcfem_blister_3d_guess_",
-                             petsc_options={"ksp_type": "preonly", "pc_type": "lu"}).solve()
-    peak = msh.comm.allreduce(float(solution.x.array.max(initial=0.0)), op=MPI.MAX)
-    return solution.x.array / peak
+from bcfem.scenes.blister_3d.start import FopplStart
 
 
 def build(params: Params, comm, extra_terms=()) -> Scene:
@@ -53,26 +38,11 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     terms.append(PressureVolume())
     terms.extend(extra_terms)
 
-    S, _ = V.sub(0).collapse()
-    components = [V.sub(c).collapse()[1] for c in range(3)]  # S's dofs in u's array, per component
-    shape = bulge_shape(S, fem.locate_dofs_topological(S, fdim, edge_facets))
-    X = S.tabulate_dof_coordinates()[:, :2]
-    bulge = fem.Function(S)
-    bulge.x.array[:] = shape
-    shape_area = global_sum(fem.form(bulge * ufl.dx))
+    guess = FopplStart(V, edge_facets)
 
     def start(fraction: float = 1.0) -> float:
-        """u: the bulge shape of apex h with a volume V/V0 = fraction v-start (to first
-        order), its points moved outward by (2/3) h^2 ŵ X as on a cap of uniform stretch, so
-        the centre is stretched too; returns a pressure guess."""
-        v = fraction * params.v_start
-        h = v * V0 / shape_area
-        values = np.zeros((len(shape), 3))
-        values[:, :2] = (2.0 / 3.0) * h**2 * shape[:, None] * X
-        values[:, 2] = h * shape
-        for c, dofs in enumerate(components):
-            u.x.array[dofs] = values[:, c]
-        return min(float(simple_membrane_pressure(v)), 2.0) + 2.0 * params.alpha * 2 * h
+        """u: the Föppl membrane's shape at V/V0 = fraction v-start; returns its pressure."""
+        return guess.apply(u, fraction * params.v_start * V0, tension=params.alpha)
 
     kin = ctx.kin
     volume = fem.form(kin.integral(kin.volume_density))
@@ -81,7 +51,7 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     degree = params.degree
     I1 = cell_maximum(msh, kin.I1 - 3, degree)
     stretch = cell_maximum(msh, kin.principal_stretches()[0], degree)
-    heights = components[2]
+    heights = V.sub(2).collapse()[1]  # the z components in u.x.array
 
     def observe() -> dict:
         apex = msh.comm.allreduce(float(u.x.array[heights].max(initial=-np.inf)), op=MPI.MAX)
