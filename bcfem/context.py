@@ -51,9 +51,10 @@ class Context:
 
     def field_state(self, name: str, degree: int = 1) -> fem.Function:
         """A scalar Lagrange field unknown ``name`` (e.g. the mixed pressure of a
-        nearly incompressible solid), created on first request."""
+        nearly incompressible solid), created on first request; degree 0 is one constant
+        per cell (discontinuous)."""
         if name not in self._states:
-            space = fem.functionspace(self.mesh, ("Lagrange", degree))
+            space = fem.functionspace(self.mesh, ("Lagrange", degree) if degree > 0 else ("DG", 0))
             self._states[name] = fem.Function(space, name=name)
         return self._states[name]
 

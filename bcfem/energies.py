@@ -150,7 +150,8 @@ class SolidStrain:
     Attributes:
         material: e.g. ``NearlyIncompressibleNeoHookean``.
         region: cell tag of the part made of this material (None: all).
-        pressure_degree: Lagrange degree of the pressure (1 for Taylor-Hood P2-P1).
+        pressure_degree: Lagrange degree of the pressure (1 for Taylor-Hood P2-P1; 0: constant
+            per cell, as Q1-P0).
     """
 
     material: object

@@ -1,7 +1,7 @@
 r"""Frictionless self-contact of a boundary curve of an axisymmetric solid (penalty).
 
 A wall that creases, or a stiff lining that folds, must not pass through
-itself. The boundary's nodes (the P2 nodes of its facets, joined into straight
+itself. The boundary's nodes (the P2 or P1 nodes of its facets, joined into straight
 segments) are checked against every segment that is not at or next to them:
 a node p that has passed behind a segment (a, b) by the signed gap
 
@@ -110,13 +110,19 @@ class WallSelfContact:
         for f in np.concatenate([self.facet_tags.find(t) for t in tags]):
             blocks = fem.locate_dofs_topological(V, 1, np.array([f], dtype=np.int32), remote=False)
             pts = X[blocks]
-            far = max(((i, j) for i in range(3) for j in range(i + 1, 3)),
-                      key=lambda ij: np.linalg.norm(pts[ij[0]] - pts[ij[1]]))
-            mid = 3 - sum(far)
             cell_blocks = V.dofmap.cell_dofs(f_to_c.links(f)[0])
-            inward = X[cell_blocks].mean(axis=0) - pts[mid]  # towards the solid
-            chain = [blocks[far[0]], blocks[mid], blocks[far[1]]]
-            midpoints.add(index[2 * blocks[mid]])
+            if len(blocks) == 2:  # a P1 (Q1) facet: one segment
+                chain = list(blocks)
+                inward = X[cell_blocks].mean(axis=0) - pts.mean(axis=0)  # towards the solid
+            elif len(blocks) == 3:  # a P2 facet: two segments through its midpoint
+                far = max(((i, j) for i in range(3) for j in range(i + 1, 3)),
+                          key=lambda ij: np.linalg.norm(pts[ij[0]] - pts[ij[1]]))
+                mid = 3 - sum(far)
+                inward = X[cell_blocks].mean(axis=0) - pts[mid]  # towards the solid
+                chain = [blocks[far[0]], blocks[mid], blocks[far[1]]]
+                midpoints.add(index[2 * blocks[mid]])
+            else:
+                raise ValueError(f"self-contact needs P1 or P2 displacements (a facet with {len(blocks)} nodes)")
             for k0, k1 in zip(chain[:-1], chain[1:]):
                 d = X[k1] - X[k0]
                 if d[0] * inward[1] - d[1] * inward[0] > 0:  # solid on the left: swap
@@ -148,13 +154,16 @@ class WallSelfContact:
         self.gather_counts = 2 * np.array(comm.allgather(self.owned.size))
         lengths = np.linalg.norm(self.X[self.segments[:, 1]] - self.X[self.segments[:, 0]], axis=1)
         self.segment_length = lengths
-        # Simpson's weights on each P2 facet (1/6, 4/6, 1/6 of its length): the nodal forces of a
-        # uniform contact pressure are then those of the finite element
+        # Simpson's weights on each P2 facet (1/6, 4/6, 1/6 of its length), the trapezoidal rule's
+        # on a P1 one (1/2, 1/2): the nodal forces of a uniform contact pressure are then those
+        # of the finite element
         middle = np.zeros(len(rows), dtype=bool)
         middle[[position[m] for part in comm.allgather(midpoints) for m in part]] = True
+        quadratic = middle[self.segments].any(axis=1)  # a half of a P2 facet
         share = np.zeros(len(rows))
         for end in (0, 1):
-            np.add.at(share, self.segments[:, end], np.where(middle[self.segments[:, end]], 2, 1) * lengths / 3)
+            fraction = np.where(quadratic, np.where(middle[self.segments[:, end]], 2 / 3, 1 / 3), 1 / 2)
+            np.add.at(share, self.segments[:, end], fraction * lengths)
         self.weight = 2 * math.pi * self.X[:, 0] * share
         n = len(rows)
         # a node projects onto a segment for xi in [0, 1); past the free end of the boundary

@@ -8,7 +8,9 @@ layer of thickness t lines the crater (the region between the spheres rho and
 rho + t, above z = 0).
 
 Geometry is second order (``order=2``) so that the crater surface, and hence
-its volume, is exact up to the quadrature of the geometry map. Built with the
+its volume, is exact up to the quadrature of the geometry map. The cells are
+triangles, or quadrilaterals (``cell="quadrilateral"``: gmsh's triangles recombined at
+twice the size, then every cell split into quadrilaterals, as Abaqus's CAX4H meshes). Built with the
 OpenCASCADE kernel on rank 0 with one thread; every entity has exactly one
 physical group:
 
@@ -26,6 +28,8 @@ from bcfem.params import require
 
 SPECIMEN, LAYER = 1, 2
 BOTTOM, CRATER, TOP, AXIS, OUTER = 11, 12, 13, 14, 15
+#: the cell shapes the mesher makes
+CELLS = ("triangle", "quadrilateral")
 
 
 @dataclass(frozen=True)
@@ -41,6 +45,7 @@ class CraterGeometry:
         size_crater: element size on the crater surface, relative to a.
         size_far: element size far from the crater, relative to a.
         order: geometry order (1 or 2).
+        cell: "triangle" or "quadrilateral".
     """
 
     radius: float = 12.70
@@ -51,6 +56,7 @@ class CraterGeometry:
     size_crater: float = 0.06
     size_far: float = 0.5
     order: int = 2
+    cell: str = "triangle"
 
     def __post_init__(self):
         require(self.radius > 0 and self.height > 0,
@@ -64,6 +70,7 @@ class CraterGeometry:
                 f"the crater (b + t = {self.crater_height + self.layer_thickness}) must fit in the specimen height")
         require(0 < self.size_crater <= self.size_far, "need 0 < size_crater <= size_far")
         require(self.order in (1, 2), f"order must be 1 or 2 (got {self.order})")
+        require(self.cell in CELLS, f"cell must be one of {list(CELLS)} (got {self.cell!r})")
 
     @property
     def crater_height(self) -> float:
@@ -141,8 +148,10 @@ def build_model(geometry: CraterGeometry):
         if key and tags:
             gmsh.model.addPhysicalGroup(1, tags, key, name=names[key])
 
-    # refinement at the crater and its rim
-    h0, h1 = g.size_crater * g.crater_radius, g.size_far * g.crater_radius
+    # refinement at the crater and its rim; quadrilaterals are made at twice the size and
+    # split in four (a triangle Blossom left over in three): every cell a quadrilateral
+    split = 2 if g.cell == "quadrilateral" else 1
+    h0, h1 = split * g.size_crater * g.crater_radius, split * g.size_far * g.crater_radius
     field = gmsh.model.mesh.field
     distance = field.add("Distance")
     field.setNumbers(distance, "CurvesList", groups[CRATER])
@@ -170,8 +179,18 @@ def build_model(geometry: CraterGeometry):
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    if g.cell == "quadrilateral":  # frontal-Delaunay for quads, Blossom's matching, then the split
+        gmsh.option.setNumber("Mesh.Algorithm", 8)
+        gmsh.option.setNumber("Mesh.RecombineAll", 1)
+        gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 1)
+        gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 1)
     gmsh.model.mesh.generate(2)
     gmsh.model.mesh.setOrder(g.order)
+    # dolfinx takes one cell type: a recombination that left a triangle is refused here
+    shapes = {gmsh.model.mesh.getElementProperties(t)[0].split()[0].lower()
+              for t in gmsh.model.mesh.getElementTypes(2)}
+    if shapes != {g.cell}:
+        raise RuntimeError(f"the mesh has cells {sorted(shapes)}, not only {g.cell}s")
 
 
 def create_mesh(geometry: CraterGeometry, comm, msh_file=None):

@@ -31,8 +31,12 @@ class Recorder(Crater):
         V1 = fem.functionspace(self.mesh, ("Lagrange", 1, (2,)))
         self.u1 = fem.Function(V1)
         self.vertices = V1.tabulate_dof_coordinates()[:, :2]
-        self.triangles = V1.dofmap.list.copy()
-        self.in_layer = np.isin(np.arange(len(self.triangles)), self.cell_tags.find(LAYER))
+        cells = V1.dofmap.list
+        in_layer = np.isin(np.arange(len(cells)), self.cell_tags.find(LAYER))
+        if cells.shape[1] == 4:  # quadrilaterals (vertices in tensor order 0 1 / 2 3): two triangles each
+            cells = np.vstack([cells[:, [0, 1, 3]], cells[:, [0, 3, 2]]])
+            in_layer = np.concatenate([in_layer, in_layer])
+        self.triangles, self.in_layer = cells.copy(), in_layer
         g = self.geometry
         X = self.u.function_space.tabulate_dof_coordinates()[:, :2]
         centre = g.crater_height - g.sphere_radius

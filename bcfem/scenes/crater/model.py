@@ -33,7 +33,7 @@ from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.modes import ModeAnalysis
 from bcfem.mpi import PointEvaluator, global_sum, real_value
 from bcfem.relaxation import Viscosity
-from bcfem.scenes.crater.params import Params
+from bcfem.scenes.crater.params import ELEMENTS, Params
 from bcfem.self_contact import WallSelfContact
 from bcfem.solid import AxisymmetricSolid
 
@@ -69,7 +69,8 @@ class Crater:
         self.geometry = geometry
         data = self.create_mesh(geometry, comm)
         msh, facets = data.mesh, data.facet_tags
-        V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
+        element = ELEMENTS[getattr(params, "element", "p2p1")]
+        V = fem.functionspace(msh, ("Lagrange", element.displacement, (2,)))
         self.u = fem.Function(V, name="displacement")
         self.ctx = Context(self.u)
         Vz, zmap = V.sub(1).collapse()
@@ -92,17 +93,17 @@ class Crater:
             lift = ufl.as_vector([0, self.platen_state * self._platen_shape(Vz, msh.comm)])
         if self.bottom_contact:
             facets = self._tag_sealed_bottom(msh, facets)
-        self.ctx.kin = AxisymmetricSolid(self.u, quadrature_degree=4, cell_tags=data.cell_tags,
+        self.ctx.kin = AxisymmetricSolid(self.u, quadrature_degree=element.quadrature, cell_tags=data.cell_tags,
                                          facet_tags=facets, lift=lift)
 
-        def neo_hookean(mu):
-            return NearlyIncompressibleNeoHookean(mu=mu, kappa=params.kappa_ratio * mu)
+        def solid(mu, region=None):
+            return SolidStrain(NearlyIncompressibleNeoHookean(mu=mu, kappa=params.kappa_ratio * mu), region,
+                               element.pressure)
 
         if params.layer_thickness > 0:  # the layer is its own material region
-            self.solids = [SolidStrain(neo_hookean(params.beta), region=SPECIMEN),
-                           SolidStrain(neo_hookean(params.layer_stiffness * params.beta), region=LAYER)]
+            self.solids = [solid(params.beta, SPECIMEN), solid(params.layer_stiffness * params.beta, LAYER)]
         else:
-            self.solids = [SolidStrain(neo_hookean(params.beta))]
+            self.solids = [solid(params.beta)]
         self.platen = fem.Function(V.sub(1).collapse()[0])
         gamma = params.surface_energy * params.beta * geometry.crater_radius  # gamma~ mu a
         self.surface = SolidSurfaceEnergy(gamma, self.walls, "crater_surface_energy") if gamma > 0 else None

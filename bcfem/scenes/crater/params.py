@@ -44,6 +44,25 @@ PETSc prefixes: bcfem_crater_load_ and bcfem_crater_unload_."""
 PATHS = ("stable", "fundamental")
 #: ``--bottom``: the bottom face held on the plate, or in unilateral contact with it
 BOTTOMS = ("held", "contact")
+
+
+@dataclass(frozen=True)
+class Element:
+    """A displacement-pressure pair: Lagrange degrees (pressure 0: constant per cell), the
+    quadrature degree of the strain energy, the cell shape and the geometry's order."""
+
+    displacement: int
+    pressure: int
+    quadrature: int
+    cell: str
+    order: int
+
+
+#: ``--element``: Taylor-Hood P2-P1 on second-order triangles, or Q1-P0 on straight-sided
+#: quadrilaterals with 2 x 2 Gauss points (Abaqus's CAX4H: bilinear, hybrid with a constant
+#: pressure, isoparametric, full integration)
+ELEMENTS = {"p2p1": Element(2, 1, 4, "triangle", 2),
+            "q1p0": Element(1, 0, 2, "quadrilateral", 1)}
 #: the crater fluids (the terms are ``bcfem.fluids.FLUIDS``)
 FLUID_NAMES = ("air", "liquid")
 #: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
@@ -144,6 +163,11 @@ class Params:
         "seal (water at 20 C: 0.023); -inf: no cavitation, the liquid takes any tension and a closed "
         "crater stays closed; not used for air", "1",
         bound=Bound(-1e3, 1, open_high=True, also=(-math.inf,))))
+    element: str = field(default="p2p1", metadata=describe(
+        "the solid's elements: p2p1 (Taylor-Hood: quadratic displacement, linear pressure, on curved "
+        "triangles) or q1p0 (bilinear displacement, a constant pressure per cell, on straight-sided "
+        "quadrilaterals: the analogue of Abaqus's CAX4H, the dissertation's element)",
+        choices=tuple(ELEMENTS)))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage; a path that "
         "snaps more often fails (a deepening crease)", bound=Bound(0, 1000, integer=True)))
@@ -153,12 +177,13 @@ class Params:
     BUDGETS = ("max_snaps",)
     #: parameters added after the maps of docs/figures were solved: a sweep point's digest leaves
     #: them out at their default (:func:`bcfem.sweep.point_key`), so those points stay valid
-    LATER = ("bottom", "retract", "cavitation")
+    LATER = ("bottom", "retract", "cavitation", "element")
 
     def __post_init__(self):
         check_bounds(self)
         require(self.path in PATHS, f"--path must be one of {list(PATHS)} (got {self.path!r})")
         require(self.fluid in FLUID_NAMES, f"--fluid must be one of {list(FLUID_NAMES)} (got {self.fluid!r})")
+        require(self.element in ELEMENTS, f"--element must be one of {list(ELEMENTS)} (got {self.element!r})")
         require(self.bottom in BOTTOMS, f"--bottom must be one of {list(BOTTOMS)} (got {self.bottom!r})")
         require(self.retract == 0 or self.bottom == "contact",
                 f"--retract needs --bottom contact: a bottom face held on the plate cannot separate "
@@ -181,7 +206,9 @@ class Params:
             self.geometry()  # the crater inside the specimen: ValueError naming it, before any meshing
 
     def geometry(self) -> CraterGeometry:
+        element = ELEMENTS[self.element]
         return CraterGeometry(radius=self.specimen_radius, height=self.specimen_height,
                               crater_radius=self.crater_radius, alpha=self.alpha,
                               size_crater=self.size_crater, size_far=max(0.5, self.size_crater),
-                              layer_thickness=self.layer_thickness * self.crater_radius)
+                              layer_thickness=self.layer_thickness * self.crater_radius,
+                              order=element.order, cell=element.cell)
