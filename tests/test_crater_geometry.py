@@ -45,6 +45,24 @@ def test_volume_converges_with_the_mesh():
     assert errors[1] < errors[0] / 8  # O(h^4) for quadratic arcs; at least third order seen
 
 
+@pytest.mark.parametrize("alpha, layer", [(1.0, 0.0), (0.4, 0.0), (1.0, 0.3175)])
+def test_quadrilateral_meshes_have_only_quadrilaterals_and_chords_of_order_h2(alpha, layer):
+    """Q1-P0's meshes (--element q1p0): every cell a quadrilateral, also for a lining and a
+    shallow cap, where gmsh's recombination alone left triangles; the straight-sided wall's
+    chords fall short of the cap by their sag, h^2 / (12 rho^2) of the volume per unit area:
+    halving h divides the shortfall by 4, give or take the rounding of the number of chords on
+    the arc (2.8 on the shallow cap's 12 and 20 chords), and by more than first order's 2 in any case."""
+    from dolfinx.mesh import CellType
+
+    shortfalls = []
+    for h in (0.12, 0.06):
+        geometry = CraterGeometry(alpha=alpha, layer_thickness=layer, size_crater=h, order=1, cell="quadrilateral")
+        data = create_mesh(geometry, MPI.COMM_WORLD)
+        assert data.mesh.topology.cell_type == CellType.quadrilateral
+        shortfalls.append(1 - crater_volume(data) / geometry.crater_volume)
+    assert shortfalls[1] > 0 and 2.5 < shortfalls[0] / shortfalls[1] < 5.5, shortfalls
+
+
 @pytest.mark.parametrize("kwargs, word", [
     ({"alpha": 1.2}, "alpha"),
     ({"alpha": 0.0}, "alpha"),
