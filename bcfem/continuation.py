@@ -156,7 +156,9 @@ class ArcLength:
         rhs.destroy()
         y.destroy()
         tangent = [f.x.array.copy() for f in rhs_functions]
-        norm = self._length(problem, tangent)
+        norm = self._length(problem, tangent)  # global: not finite on every rank alike
+        if not math.isfinite(norm) or norm == 0:
+            raise ContinuationError("the tangent is not finite: the Jacobian is singular at a converged point")
         return [t / norm for t in tangent]
 
     def _oriented(self, problem, tangent, switch) -> list[np.ndarray]:
@@ -356,17 +358,25 @@ class ArcLength:
         Returns:
             (the step taken, the tangent at the new point)
         """
-        while not self._solve_at(problem, base, tangent, ds):
+        while True:
+            failure = None
+            if self._solve_at(problem, base, tangent, ds):
+                try:
+                    new_tangent = self._tangent(problem)
+                    break
+                except ContinuationError as err:  # a singular point: step past it, or short of it
+                    failure = str(err)
+                    problem.restore(base)
             branch.failed_steps += 1
             ds *= 0.5
             if ds < self.params.ds_min:
                 problem.restore(base)
                 raise ContinuationError(
-                    f"step {step}: Newton failed ({problem.failure}) even at "
+                    f"step {step}: Newton failed ({failure or problem.failure}) even at "
                     f"ds < ds_min = {self.params.ds_min:g}; last converged point: "
                     + ", ".join(f"{k}={values[k]:.6g}" for k in progress_keys if k in values))
         branch.newton_iterations += problem.iterations
-        return ds, self._tangent(problem)
+        return ds, new_tangent
 
     def _switch(self, problem, switch) -> list[np.ndarray]:
         """Apply ``switch`` at the current state, converge the new model there, return its tangent."""
@@ -392,7 +402,10 @@ class ArcLength:
                 return f1
             if not self._solve_at(problem, base, tangent, sigma):
                 raise ContinuationError(f"Newton failed inside an accepted step (sigma={sigma:g})")
-            return f_now()
+            value = f_now()
+            if not math.isfinite(value):
+                raise ContinuationError(f"the located function is not finite inside a step (sigma={sigma:g})")
+            return value
 
         try:
             sigma = bracketed_root(f, 0.0, ds, xtol=self.params.event_tol)

@@ -84,6 +84,33 @@ def test_square_bulge_is_vlassak_and_nix():
     assert foppl_constant(1, 0.1) == pytest.approx(vlassak_nix, rel=1e-2)
 
 
+def test_relaxed_circle_is_taut():
+    """An inflated circle is in tension everywhere: the tension-field relaxation changes nothing."""
+    taut = limit_points(size=0.4, v_max=1.0)["max"]
+    relaxed = limit_points(size=0.4, v_max=1.0, wrinkles="relaxed")["max"]
+    assert relaxed["wrinkled_fraction"] == 0
+    assert relaxed["P"] == pytest.approx(taut["P"], rel=1e-12)
+
+
+def test_rectangle_wrinkles_at_its_corners():
+    """A clamped rectangle of aspect 4 before its maximum: the taut membrane's minor tension
+    is negative only at the corners (sampled on a grid of the quarter), where the relaxed
+    membrane wrinkles; the centre is in biaxial tension."""
+    from bcfem.mpi import sample
+
+    scene = blister_3d.build(blister_3d.Params(outline="rectangle", aspect=4, size=0.1, v_max=0.35,
+                                               wrinkles="relaxed"), MPI.COMM_WORLD)
+    end = branch_of(scene).rows[-1]
+    assert 0 < end["wrinkled_fraction"] < 0.05
+    half_w, half_h = math.sqrt(4 * math.pi) / 2, math.sqrt(math.pi / 4) / 2
+    grid = np.array([[fx * half_w, fy * half_h, 0] for fx in np.linspace(0, 0.98, 8)
+                     for fy in np.linspace(0, 0.98, 6)])
+    minor = sample(scene.fields[1], grid)[:, 2]  # 'measures': lambda_1, lambda_2, N2
+    compressed = grid[minor < 0]
+    assert len(compressed) > 0 and minor[0] > 0
+    assert np.all(compressed[:, 0] > half_w - 2 * half_h) and np.all(compressed[:, 1] > 0.5 * half_h)
+
+
 def test_a_self_intersecting_polygon_is_refused():
     with pytest.raises(ValueError, match="self-intersecting"):
         check_polygon(np.array([[0, 0], [1, 1], [1, 0], [0, 1]], dtype=float))

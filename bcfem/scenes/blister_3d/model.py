@@ -9,6 +9,7 @@ import math
 from mpi4py import MPI
 
 import numpy as np
+import ufl
 from dolfinx import fem
 
 from bcfem.context import Context
@@ -28,7 +29,7 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     V = fem.functionspace(msh, ("Lagrange", params.degree, (3,)))
     u = fem.Function(V, name="displacement")
     ctx = Context(u)
-    ctx.kin = PlanarMembrane(u, quadrature_degree=2 * params.degree + 2)
+    ctx.kin = PlanarMembrane(u, quadrature_degree=2 * params.degree + 2, relaxed=params.wrinkles == "relaxed")
     edge_facets = data.facet_tags.find(EDGE)
     fdim = msh.topology.dim - 1
     bcs = [fem.dirichletbc(np.zeros(3), fem.locate_dofs_topological(V, fdim, edge_facets), V)]
@@ -52,11 +53,24 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
     I1 = cell_maximum(msh, kin.I1 - 3, degree)
     stretch = cell_maximum(msh, kin.principal_stretches()[0], degree)
     heights = V.sub(2).collapse()[1]  # the z components in u.x.array
+    I1_taut = ufl.variable(kin.taut_I1)
+    dW = ufl.diff(params.material_model().strain_energy(I1_taut), I1_taut)
+    N2 = kin.principal_tensions(dW)[1] + params.alpha
+    compression = cell_maximum(msh, -N2, degree)
+    wrinkled = fem.form(kin.integral(ufl.conditional(ufl.lt(N2, 0), 1.0, 0.0) / kin.reference_area))
+    measures = fem.Function(V, name="measures")
+    direction = fem.Function(V, name="tension_direction")
+    drawn = [(f, fem.Expression(e, V.element.interpolation_points))
+             for f, e in ((measures, ufl.as_vector([*kin.principal_stretches(), N2])),
+                          (direction, kin.tension_direction()))]
 
     def observe() -> dict:
+        for f, expression in drawn:
+            f.interpolate(expression)
         apex = msh.comm.allreduce(float(u.x.array[heights].max(initial=-np.inf)), op=MPI.MAX)
         return {"V_over_V0": global_sum(volume) / V0, "P": real_value(pressure), "aspect": apex,
-                "energy": global_sum(energy) / math.pi, "stretch_max": stretch(), "I1_minus_3_max": I1()}
+                "energy": global_sum(energy) / math.pi, "stretch_max": stretch(), "I1_minus_3_max": I1(),
+                "N2_min": -compression(), "wrinkled_fraction": global_sum(wrinkled)}
 
     def guard(values):
         if values["V_over_V0"] <= 0:
@@ -69,7 +83,8 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
 
     return Scene(name="blister-3d", ctx=ctx, terms=terms, bcs=bcs, load="pressure", start=start,
                  observe=observe, end=lambda values: values["V_over_V0"] - params.v_max, grows="V_over_V0",
-                 progress_keys=("V_over_V0", "P", "aspect"), fields=[u], continuation=params.continuation,
+                 progress_keys=("V_over_V0", "P", "aspect"), fields=[u, measures, direction],
+                 continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
                  load_scale=max(1.0, 2 * params.alpha), guard=guard, params=params, columns=COLUMNS)
 

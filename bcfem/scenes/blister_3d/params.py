@@ -31,10 +31,20 @@ Units and normalisations (all inputs and outputs are dimensionless):
   V/V0           with V0 = 4/3 pi R0^3
   aspect         = the apex height max z over R0
   energy         = Pi / (pi R0^2 mu_f t0)
+  N2_min         the least minor principal tension (membrane's plus gamma_l), over mu_f t0
+  wrinkled_fraction  the area fraction where the taut membrane's minor tension is < 0
+
+With --wrinkles relaxed the membrane cannot carry compression (tension-field
+theory): where it would, it wrinkles along its major principal direction and
+contracts freely across it. The VTX file holds 'measures' (lambda_1, lambda_2,
+N2) and 'tension_direction' (the unit major principal direction, the wrinkles'
+crests where N2 < 0).
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/fields.bp (VTX: the
 displacement on the reference outline; warp by it in ParaView)."""
-COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "s"]
+COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "N2_min",
+           "wrinkled_fraction", "s"]
 EDGES = ("clamped",)
+WRINKLES = ("taut", "relaxed")
 
 
 @dataclass(frozen=True)
@@ -55,6 +65,9 @@ class Params:
     alpha: float = field(default=0.0, metadata=describe(
         "elasto-capillary number gamma_l / (mu_f t0)", bound=Bound(0, 1e4)))
     edge: str = field(default="clamped", metadata=describe("edge condition", "", EDGES))
+    wrinkles: str = field(default="taut", metadata=describe(
+        "taut: the membrane carries compression; relaxed: it wrinkles instead (tension-field "
+        "theory; needs --alpha 0)", "", WRINKLES))
     v_max: float = field(default=2.0, metadata=describe(
         "end of the branch, V/V0", bound=Bound(0, 100, open_low=True)))
     v_start: float = field(default=0.01, metadata=describe(
@@ -67,10 +80,14 @@ class Params:
 
     def __post_init__(self):
         check_bounds(self)
-        for name, choices in (("outline", KINDS), ("material", tuple(MATERIALS)), ("edge", EDGES)):
+        for name, choices in (("outline", KINDS), ("material", tuple(MATERIALS)), ("edge", EDGES),
+                              ("wrinkles", WRINKLES)):
             require(getattr(self, name) in choices,
                     f"--{name} must be one of {sorted(choices)} (got {getattr(self, name)!r})")
         require(self.v_start < self.v_max, f"need --v-start < --v-max (got {self.v_start:g}, {self.v_max:g})")
+        require(self.wrinkles == "taut" or self.alpha == 0,
+                "--wrinkles relaxed needs --alpha 0 (a surface tension moves the wrinkling criterion, "
+                "which the relaxed energy of the membrane alone does not hold)")
         require((self.outline == "polygon") == bool(self.vertices),
                 "--vertices FILE is needed for --outline polygon, and only for it")
         require(self.aspect == 1.0 or self.outline in ("ellipse", "rectangle"),
