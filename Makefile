@@ -37,6 +37,7 @@ profile: venv
 # error against run time: docs/benchmarks/<scene>.{csv,md,png}
 bench: venv
 	$(BIN)/python benchmarks/blister_rigid.py
+	$(BIN)/python benchmarks/blister_3d.py
 	$(BIN)/python benchmarks/blister_shooting.py
 	$(BIN)/python benchmarks/speed.py
 	$(BIN)/python benchmarks/blister_edges.py
