@@ -209,13 +209,46 @@ def test_neumann_triangle_at_the_tip(tensions):
         assert found[-1][key] == pytest.approx(neumann[phase], abs=1.5)
 
 
+NEUMANN_CASE = {"model": "neo-hookean", "gamma_s": 0.2, "gamma_l": 0.2, "gamma_ls": 0.15, "size_contact": 0.02,
+                "width": 4, "load_step": 0.5}
+
+
+def rest_angle_of(volume):
+    """The angle (degrees) of the cap on the unit circle holding ``volume``: π/6 t(3 + t²) = V."""
+    roots = np.roots([1.0, 0.0, 3.0, -6.0 * volume / math.pi])
+    t = float(roots[np.argmin(abs(roots.imag))].real)
+    return math.degrees(2 * math.atan(t))
+
+
+@pytest.mark.mpi
+def test_neumann_control_is_the_volume_control_at_its_volume():
+    """--control neumann (the dissertation's iteration): the drop's volume becomes the output at
+    which the liquid pulls along the resultant of the solid tensions at the tip (misfit 0), its
+    angle φl and Laplace pressure those of the spherical cap; and the volume control at that
+    volume is the same equilibrium (same φl, tip and misfit), from its own load path."""
+    _, _, held = solve(control="neumann", **NEUMANN_CASE)
+    _, _, fixed = solve(**NEUMANN_CASE)
+    assert held["status"] == "ok" and held["control"] == "neumann"
+    assert abs(held["neumann_misfit"]) < 1e-8
+    assert abs(fixed["neumann_misfit"]) > 1e-3  # the rest cap on R0 does not meet it
+    assert held["drop_volume"] != pytest.approx(held["rest_volume"], rel=1e-2)
+    assert held["laplace_pressure"] == pytest.approx(
+        2 * math.sin(math.radians(held["cap_angle_deg"])) / held["tip_r"], rel=1e-8)
+    _, _, same = solve(cap_angle=rest_angle_of(held["drop_volume"]), **NEUMANN_CASE)
+    assert same["drop_volume"] == pytest.approx(held["drop_volume"], rel=1e-12)
+    for key in ("cap_angle_deg", "tip_r", "tip_z", "ridge_height"):
+        assert same[key] == pytest.approx(held[key], rel=1e-6), key
+    assert abs(same["neumann_misfit"]) < 1e-6
+
+
 # -- the command line -------------------------------------------------------------------------
 @pytest.mark.serial
 @pytest.mark.parametrize("args, word", [
     (["--gamma-s", "-0.1"], "gamma-s"), (["--gamma-ls", "-1"], "gamma-ls"), (["--gamma-l", "0"], "gamma-l"),
     (["--nu", "0.6"], "nu"), (["--nu", "-1"], "nu"), (["--thickness", "-0.5"], "thickness"),
     (["--gamma-s", "0.5", "--gamma-ls", "0.1", "--gamma-l", "0.1"], "Young"),
-    (["--model", "neo-hookean", "--gamma-l", "1", "--gamma-s", "0.3", "--gamma-ls", "0.3"], "Neumann")])
+    (["--model", "neo-hookean", "--gamma-l", "1", "--gamma-s", "0.3", "--gamma-ls", "0.3"], "Neumann"),
+    (["--control", "neumann"], "control"), (["--model", "neo-hookean", "--control", "mass"], "control")])
 def test_bad_input_exits_2_before_meshing(tmp_path, args, word):
     out = tmp_path / "out"
     assert word in refused("run", "droplet-soft", *args, out=out)
@@ -223,10 +256,11 @@ def test_bad_input_exits_2_before_meshing(tmp_path, args, word):
 
 
 @pytest.mark.serial
-@pytest.mark.parametrize("model", ["linear", "neo-hookean"])
-def test_two_ranks_give_the_serial_numbers(tmp_path, model):
+@pytest.mark.parametrize("model, control", [("linear", "volume"), ("neo-hookean", "volume"),
+                                            ("neo-hookean", "neumann")])
+def test_two_ranks_give_the_serial_numbers(tmp_path, model, control):
     args = ["run", "droplet-soft", "--model", model, "--gamma-s", "0.2", "--gamma-l", "0.2", "--gamma-ls", "0.15",
-            "--size-contact", "0.02", "--width", "4", "--load-step", "0.5", "--quiet"]
+            "--size-contact", "0.02", "--width", "4", "--load-step", "0.5", "--control", control, "--quiet"]
     summaries = []
     for ranks in (1, 2):
         out = tmp_path / f"n{ranks}"
@@ -236,5 +270,8 @@ def test_two_ranks_give_the_serial_numbers(tmp_path, model):
         assert (out / "profile.csv").exists() and (out / "profile.png").exists()
     serial, parallel = summaries
     assert parallel["ranks"] == 2
-    for key in ("ridge_height", "cusp_angle_deg", "cap_angle_deg", "laplace_pressure"):
+    for key in ("ridge_height", "cusp_angle_deg", "cap_angle_deg", "laplace_pressure", "drop_volume"):
+        if serial[key] is None:  # the linear model has no drop volume
+            assert parallel[key] is None, key
+            continue
         assert parallel[key] == pytest.approx(serial[key], rel=1e-8, abs=1e-12), key

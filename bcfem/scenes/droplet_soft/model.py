@@ -17,6 +17,11 @@ The axis has u_r = 0, the base Z = -H is bonded (u = 0) and the far rim R = L R0
 (δ = two contact-element sizes) and R0 ± 4δ, extrapolated to δ → 0: the solid's (cusp)
 angle between the wetted and the dry chord, the liquid's between the wetted chord and the
 cap, the vapour's between the cap and the dry chord; they sum to 360°.
+
+``control = "neumann"`` (the dissertation's iteration, §5.4.2) then changes the drop's volume
+(a bracket, then a root) until the liquid pulls along the resultant of the two solid tensions at the tip
+(the δ chords): the perpendicular part of γl v + γls τ_ls + γs τ_s vanishes, and φl and the
+volume are outputs. The magnitude's part stays as the bulk's share (``neumann_residual``).
 """
 
 from __future__ import annotations
@@ -141,6 +146,7 @@ class DropletSoft:
         x = self._tip_points[:, :2] + sample(self.u, self._tip_points)
         theta = self.cap_angle()
         near, far = self._wedges(x, 1, 2, theta), self._wedges(x, 3, 4, theta)
+        misfit = self._misfit(x, theta)
         solid, liquid, vapour = 2 * near - far
         # the extrapolated directions: the wet chord turned by the liquid wedge from the cap
         a_liq = math.pi - theta
@@ -154,7 +160,17 @@ class DropletSoft:
                 "vapour_angle_deg": math.degrees(vapour),
                 "cusp_angle_chord_deg": math.degrees(near[0]), "liquid_angle_chord_deg": math.degrees(near[1]),
                 "vapour_angle_chord_deg": math.degrees(near[2]),
-                "neumann_residual": float(np.linalg.norm(balance)) / max(p.gamma_l, p.gamma_s, p.gamma_ls)}
+                "neumann_residual": float(np.linalg.norm(balance)) / max(p.gamma_l, p.gamma_s, p.gamma_ls),
+                "neumann_misfit": misfit}
+
+    def _misfit(self, x: np.ndarray, theta: float) -> float:
+        """The part of γl v + γls τ_ls + γs τ_s normal to v, over γl, with τ along the δ chords
+        (the resolved tip): zero when the liquid pulls along the solid tensions' resultant."""
+        p = self.params
+        a_liq = math.pi - theta
+        normal = np.array([-math.sin(a_liq), math.cos(a_liq)])
+        chords = [(x[k] - x[0]) / np.linalg.norm(x[k] - x[0]) for k in (1, 2)]
+        return float((p.gamma_ls * chords[0] + p.gamma_s * chords[1]) @ normal) / p.gamma_l
 
     def observe(self, load: float, iterations: int) -> dict:
         """The row of ``branch.csv`` at ``load`` (collective)."""
@@ -168,7 +184,14 @@ class DropletSoft:
                 "ridge_height_normalised": float(u_z) / ((1 - nu) * gamma_l) if gamma_l > 0 else math.nan,
                 "cap_angle_deg": math.degrees(self.cap_angle()), **self.tip_angles(),
                 "laplace_pressure": pressure / gamma_l if gamma_l > 0 else math.nan,
-                "newton_iterations": iterations}
+                "drop_volume": self.drop_volume(), "newton_iterations": iterations}
+
+    def drop_volume(self) -> float:
+        """The drop's volume over R0³ (the constraint's value; nan for the linear model)."""
+        return float(self.ctx.constant("drop_volume").value) if self.drop is not None else math.nan
+
+    def set_volume(self, volume: float) -> None:
+        self.ctx.constant("drop_volume").value = volume
 
     def surface_profile(self) -> list[dict]:
         """The top surface at the profile radii (collective): reference R, current r and z,
@@ -199,10 +222,41 @@ class DropletSoft:
                 try:
                     path.through(0.0, 1.0, p.load_step,
                                  lambda load: run.record(self.observe(load, problem.iterations)))
+                    if p.control == "neumann":
+                        self._hold_neumann(run, problem)
                 finally:
                     self._finish(run)
                 return
         self._finish(run)
+
+    def _hold_neumann(self, run, problem, factor: float = 0.85, steps: int = 14) -> None:
+        """The drop volume at full load where ``neumann_misfit`` changes sign: march the volume by
+        ``factor`` (down if the misfit is negative: a smaller φl turns it up) until it brackets a
+        root, then find it with every evaluation starting from the bracket's first state (the tip
+        admits more than one state at one volume, so the path to a state is kept the same)."""
+        path = LoadPath(problem, self.set_volume, "load", check_stability=False, load_name="drop_volume")
+        path.start()
+        volume, misfit = self.drop_volume(), run.rows[-1]["neumann_misfit"]
+        scale = factor if misfit < 0 else 1.0 / factor
+        for _ in range(steps):
+            if misfit == 0:
+                return
+            before = path.mark(volume)
+            trial = volume * scale
+            path.advance(volume, trial, abs(trial - volume))
+            row = self.observe(1.0, problem.iterations)
+            run.record(row)
+            if math.copysign(1, row["neumann_misfit"]) != math.copysign(1, misfit):
+                path.root(before, trial, lambda: self._tip_misfit(), xtol=1e-9 * trial)
+                run.record(self.observe(1.0, problem.iterations))
+                return
+            volume, misfit = trial, row["neumann_misfit"]
+        raise SteppingError(f"--control neumann: the misfit keeps its sign ({misfit:.2e}) down to the volume "
+                            f"{volume:.4g} R0^3", 1.0)
+
+    def _tip_misfit(self) -> float:
+        x = self._tip_points[:, :2] + sample(self.u, self._tip_points)
+        return self._misfit(x, self.cap_angle())
 
     def _finish(self, run) -> None:
         """Summary entries and the profile of the last accepted state (also after a failure)."""
@@ -215,14 +269,15 @@ class DropletSoft:
             return
         keys = ("ridge_height", "ridge_height_normalised", "cusp_angle_deg", "liquid_angle_deg", "vapour_angle_deg",
                 "cusp_angle_chord_deg", "liquid_angle_chord_deg", "vapour_angle_chord_deg", "neumann_residual",
-                "cap_angle_deg", "laplace_pressure", "tip_r", "tip_z")
+                "cap_angle_deg", "laplace_pressure", "tip_r", "tip_z", "neumann_misfit", "drop_volume")
         run.results.update({k: last[k] for k in keys})
         run.results.update({
             "load_reached": last["load"],
             "young_angle_deg": math.degrees(p.young_angle),
             "rest_angle_deg": math.degrees(self.theta_young),
             "neumann_angles_deg": neumann_angles(p.gamma_s, p.gamma_l, p.gamma_ls),
-            "tip_chord": self.delta,
+            "tip_chord": self.delta, "control": p.control,
+            "rest_volume": cap_volume(1.0, self.theta_young) if self.drop is not None else None,
             "c": p.c if p.model == "linear" else None})
         if p.model == "linear" and p.gamma_s == p.gamma_ls and p.gamma_s > 0:
             from bcfem.theory import ridge

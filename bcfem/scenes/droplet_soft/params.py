@@ -32,6 +32,12 @@ finite-strain surface energies and the drop as a spherical cap of fixed volume (
 Young cap on R0), its angle and Laplace pressure unknowns. All three tensions are
 ramped together from 0 (load = tension / target) to the targets: from the linear
 regime to the elastocapillary cusp, where Neumann's triangle holds.
+--control neumann (the dissertation's iteration, sec. 5.4.2): after the ramp the drop's
+volume is changed (bracket and root, in stage load) until the liquid pulls along the resultant of
+the solid tensions at the tip, measured with the chords to R0 -/+ delta (neumann_misfit,
+the perpendicular part of gamma_l v + gamma_ls tau_ls + gamma_s tau_s over gamma_l, = 0);
+the volume and the angle phi_l are outputs. In the continuum the tip turns to meet that
+direction for any volume, so the angle this selects depends on the mesh (docs/results.md).
 
 Units: tensions gamma/(mu R0); lengths, displacements over R0; c = mu R0/((1-nu) gamma_s).
 Writes profile.csv (the top surface against R/R0), branch.csv (the load path),
@@ -41,10 +47,11 @@ PETSc prefixes: bcfem_droplet_soft_solve_ (linear) and bcfem_droplet_soft_load_.
 
 MODELS = ("linear", "neo-hookean")
 CONTACT_FORCES = ("liquid", "balanced")
+CONTROLS = ("volume", "neumann")
 #: the columns of ``branch.csv``
 COLUMNS = ["load", "gamma_l", "ridge_height", "ridge_height_normalised", "tip_r", "tip_z",
            "cap_angle_deg", "cusp_angle_deg", "liquid_angle_deg", "vapour_angle_deg", "cusp_angle_chord_deg",
-           "neumann_residual",
+           "neumann_residual", "neumann_misfit", "drop_volume",
            "laplace_pressure", "newton_iterations"]
 
 
@@ -85,6 +92,10 @@ class Params:
     kappa: float = field(default=1e4, metadata=describe("neo-Hookean bulk over shear modulus", bound=Bound(10, 1e8)))
     load_step: float = field(default=0.05, metadata=describe(
         "neo-Hookean: first step of the tension ramp (load from 0 to 1)", bound=Bound(1e-4, 1)))
+    control: str = field(default="volume", metadata=describe(
+        "neo-Hookean: what holds the drop: volume (the cap of --cap-angle on R0, fixed) or neumann "
+        "(the dissertation's: the drop's angle phi_l such that the liquid pulls along the resultant "
+        "of the two solid tensions at the tip, the volume an output)", "", CONTROLS))
 
     def __post_init__(self):
         check_bounds(self)
@@ -96,6 +107,9 @@ class Params:
             require(self.gamma_l <= self.gamma_s + self.gamma_ls,
                     f"--gamma-l must be <= --gamma-s + --gamma-ls for Neumann's triangle (got {self.gamma_l}, "
                     f"{self.gamma_s}, {self.gamma_ls})")
+        require(self.control in CONTROLS, f"--control must be one of {list(CONTROLS)} (got {self.control!r})")
+        require(self.control == "volume" or self.model == "neo-hookean",
+                "--control neumann needs --model neo-hookean (the linear model's loads are fixed)")
         require(self.contact_force in CONTACT_FORCES,
                 f"--contact-force must be one of {list(CONTACT_FORCES)} (got {self.contact_force!r})")
         with flags_named(self):
