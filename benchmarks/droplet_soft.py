@@ -17,6 +17,7 @@ Usage (from the repository root)::
 
     .venv/bin/python benchmarks/droplet_soft.py           # the benchmark
     .venv/bin/python benchmarks/droplet_soft.py figures   # chapter 5's figures (serial, ~5 min)
+    .venv/bin/python benchmarks/droplet_soft.py figures fig5_6cd   # one of them (names: FIGURES)
 
 Writes ``docs/benchmarks/droplet-soft.{csv,md,png}``; ``figures`` writes Figs. 5.4-5.9's
 counterparts and their numbers (``numbers.json``) into ``docs/figures/droplet_soft/``.
@@ -103,9 +104,9 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    if sys.argv[1:] == ["figures"]:
+    if sys.argv[1:2] == ["figures"]:
         from droplet_soft_figures import main as figures
 
-        figures()
+        figures(sys.argv[2:])
     else:
         main()

@@ -7,6 +7,8 @@
 * ``fig5_5.png``: ν = 0.3, c = 10, r0/h = 0 (half-space), 2, 5, 10;
 * ``fig5_6.png``: ν = 1/2, r0/h = 2, μ r0/γs = 1 against the analytic solution, and Young
   angles π/4, π/2, 3π/4 (μ r0/γs = μ r0/γl = 10), pull as eq. 5.22 and balanced;
+* ``fig5_6cd.png``: Fig. 5.6c-d, the displacement field μ u_r/γl and μ u_z/γl in the layer
+  (ν = 1/2, r0/h = 2, μ r0/γs = 1, the case of Fig. 5.6a-b), contours on the reference section;
 * ``fig5_7.png``: linear (ν = 1/2) against neo-Hookean, R0/h = 2, γ/(μ R0) = 0.01, 0.2, 0.5;
 * ``fig5_9.png``: the four systems of Table 5.1: the neo-Hookean tip angles against Neumann's;
 * ``numbers.json``: every number quoted in ``docs/results.md``.
@@ -16,6 +18,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -153,6 +156,40 @@ def fig5_6(plt, numbers):
     return fig
 
 
+def fig5_6cd(plt, numbers):
+    """Contours of the FE displacement field of Fig. 5.6a-b's case on the layer's section."""
+    from mpi4py import MPI
+
+    from bcfem.mpi import sample
+    from bcfem.scenes import droplet_soft as ds
+
+    gamma_l, thickness = 0.1, 0.5
+    scene, _, s = ds.solve(ds.Params(gamma_s=1.0, gamma_ls=1.0, gamma_l=gamma_l, nu=0.5, thickness=thickness,
+                                     width=6), MPI.COMM_SELF)
+    r = np.linspace(0.0, 3.0, 241)
+    z = np.linspace(-thickness, 0.0, 81)
+    R, Z = np.meshgrid(r, z)
+    points = np.column_stack([R.ravel(), Z.ravel(), np.zeros(R.size)])
+    u = sample(scene.u, points) / gamma_l
+    fig, axes = plt.subplots(2, 1, figsize=(9, 5.2), sharex=True)
+    found = {}
+    for ax, k, name in ((axes[0], 0, "mu u_r / gamma_l"), (axes[1], 1, "mu u_z / gamma_l")):
+        field = u[:, k].reshape(R.shape)
+        limit = float(np.nanmax(np.abs(field)))
+        filled = ax.contourf(R, Z, field, levels=np.linspace(-limit, limit, 21), cmap="RdBu_r")
+        ax.contour(R, Z, field, levels=np.linspace(-limit, limit, 21), colors="k", linewidths=0.3)
+        fig.colorbar(filled, ax=ax, label=name)
+        ax.axvline(1.0, color="0.3", lw=0.6, ls=":")
+        ax.set_ylabel("z / r0")
+        ax.set_aspect("equal")
+        found[name] = {"min": float(np.nanmin(field)), "max": float(np.nanmax(field))}
+    axes[1].set_xlabel("r / r0 (reference section; dotted: the contact line)")
+    fig.suptitle("Fig. 5.6c-d: displacement field, nu = 0.5, r0/h = 2, mu r0/gamma_s = 1 (linear FE)", fontsize=10)
+    found["ridge_height"] = s["ridge_height"] / gamma_l
+    numbers["fig5_6cd"] = found
+    return fig
+
+
 def fig5_7(plt, numbers):
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
     found = {}
@@ -202,7 +239,12 @@ def fig5_9(plt, numbers):
     return fig
 
 
-def main() -> None:
+FIGURES = {"fig5_4": fig5_4, "fig5_5": fig5_5, "fig5_6": fig5_6, "fig5_6cd": fig5_6cd, "fig5_7": fig5_7,
+           "fig5_9": fig5_9}
+
+
+def main(names=None) -> None:
+    """Draw ``names`` (all by default) and merge their numbers into ``numbers.json``."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -215,10 +257,10 @@ def main() -> None:
 
     configure(MPI.COMM_WORLD, quiet=True)
     OUT.mkdir(parents=True, exist_ok=True)
-    numbers: dict = {}
-    for name, draw in (("fig5_4", fig5_4), ("fig5_5", fig5_5), ("fig5_6", fig5_6), ("fig5_7", fig5_7),
-                       ("fig5_9", fig5_9)):
-        fig = draw(plt, numbers)
+    path = OUT / "numbers.json"
+    numbers: dict = json.loads(path.read_text()) if path.exists() else {}
+    for name in names or FIGURES:
+        fig = FIGURES[name](plt, numbers)
         fig.savefig(OUT / f"{name}.png", dpi=130, bbox_inches="tight")
         plt.close(fig)
         (OUT / "numbers.json").write_text(json.dumps(numbers, indent=1))
@@ -226,4 +268,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])
