@@ -17,12 +17,12 @@ from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.geometry.outline import EDGE, create_mesh
 from bcfem.mpi import cell_maximum, global_sum, real_value
 from bcfem.planar_membrane import PlanarMembrane
-from bcfem.scene import Scene
 from bcfem.scenes.blister_3d.params import COLUMNS, V0, Params
+from bcfem.scenes.blister_3d.report import MembraneScene
 from bcfem.scenes.blister_3d.start import FopplStart
 
 
-def build(params: Params, comm, extra_terms=()) -> Scene:
+def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     """The blister of ``params`` (see :mod:`bcfem.scenes.blister_3d.params`)."""
     data = create_mesh(params.geometry(), comm)
     msh = data.mesh
@@ -81,7 +81,7 @@ def build(params: Params, comm, extra_terms=()) -> Scene:
                     f"0.99 Jm (Jm = {params.Jm:g}) at V/V0 = {values['V_over_V0']:.6g}; lower --v-max or raise --Jm")
         return None
 
-    return Scene(name="blister-3d", ctx=ctx, terms=terms, bcs=bcs, load="pressure", start=start,
+    return MembraneScene(name="blister-3d", ctx=ctx, terms=terms, bcs=bcs, load="pressure", start=start,
                  observe=observe, end=lambda values: values["V_over_V0"] - params.v_max, grows="V_over_V0",
                  progress_keys=("V_over_V0", "P", "aspect"), fields=[u, measures, direction],
                  continuation=params.continuation,

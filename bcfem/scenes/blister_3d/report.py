@@ -1,0 +1,69 @@
+"""The picture of a three-dimensional blister: the deformed membrane, coloured by its major
+principal stretch, rendered off screen by pyvista (VTK's EGL window; no display needed) and
+framed in a matplotlib figure like every other PNG of a run."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+from bcfem.scene import Scene
+
+
+def gather_surface(u, measures, comm):
+    """The membrane's cells, current points and (lambda_1, lambda_2, N2) of every rank, on
+    rank 0 (None elsewhere); collective."""
+    from dolfinx import plot
+
+    topology, cell_types, points = plot.vtk_mesh(u.function_space)
+    bs = u.function_space.dofmap.index_map_bs
+    n = len(points)
+    local = (topology, cell_types, points + u.x.array.reshape(-1, bs)[:n],
+             measures.x.array.reshape(-1, bs)[:n])
+    parts = comm.gather(local, root=0)
+    return parts if comm.rank == 0 else None
+
+
+def membrane_figure(parts, title: str):
+    """A matplotlib figure of the gathered surface (rank 0)."""
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    import matplotlib.pyplot as plt
+    import pyvista
+
+    grids = []
+    for topology, cell_types, points, values in parts:
+        grid = pyvista.UnstructuredGrid(topology, cell_types, points)
+        grid.point_data["major stretch"] = values[:, 0]
+        grids.append(grid)
+    surface = grids[0].merge(grids[1:]) if len(grids) > 1 else grids[0]
+    plotter = pyvista.Plotter(off_screen=True, window_size=(1000, 700))
+    plotter.add_mesh(surface, scalars="major stretch", cmap="viridis", show_edges=False,
+                     scalar_bar_args={"title": "major principal stretch"})
+    plotter.view_isometric()
+    plotter.set_background("white")
+    image = plotter.screenshot(return_img=True)
+    plotter.close()
+    fig, ax = plt.subplots(figsize=(7, 5))
+    ax.imshow(image)
+    ax.set_axis_off()
+    ax.set_title(title)
+    return fig
+
+
+@dataclass
+class MembraneScene(Scene):
+    """An arc-length scene that also draws its last state (``membrane.png``)."""
+
+    def solve(self, run) -> None:
+        try:
+            super().solve(run)
+        finally:  # the converged part is drawn too
+            self._surface = gather_surface(self.fields[0], self.fields[1], self.ctx.mesh.comm)
+
+    def figures(self, rows, summary) -> dict:
+        figures = super().figures(rows, summary)
+        if getattr(self, "_surface", None):
+            last = rows[-1]
+            figures["membrane.png"] = membrane_figure(
+                self._surface, f"{self.name}: V/V0 = {last['V_over_V0']:.3g}, P = {last['P']:.4g}")
+        return figures
