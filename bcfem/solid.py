@@ -90,6 +90,10 @@ class AxisymmetricSolid:
         n2 = self.F[2, 2] * ufl.det(F2) * ufl.dot(ufl.inv(F2).T, self.normal)
         return ufl.as_vector([n2[0], n2[1], 0])
 
+    def vertical_area(self):
+        """The vertical (z) component of :meth:`nanson` (what a cavity closed by the plate needs)."""
+        return self.nanson()[1]
+
     def integral(self, density, region: int | None = None):
         """``density`` integrated over the reference body, dV = 2 pi R dA."""
         dx = self._dx if region is None else self._dx(region)

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 
-def distribute(build_model: Callable[[], None], comm, msh_file=None):
+def distribute(build_model: Callable[[], None], comm, msh_file=None, gdim: int = 2):
     """Run ``build_model()`` (it adds entities and physical groups to the current gmsh
     model) on rank 0 and distribute the mesh over ``comm``.
 
@@ -18,6 +18,7 @@ def distribute(build_model: Callable[[], None], comm, msh_file=None):
         build_model: builds and meshes the model.
         comm: the communicator of the mesh.
         msh_file: if given, rank 0 also writes the gmsh model there.
+        gdim: the geometric dimension of the mesh.
 
     Returns:
         dolfinx.io.gmsh.MeshData: mesh, cell_tags, facet_tags, ridge_tags, ...
@@ -43,7 +44,7 @@ def distribute(build_model: Callable[[], None], comm, msh_file=None):
     error = comm.bcast(error, root=0)
     if error is not None:
         raise RuntimeError(f"gmsh could not build the mesh: {error}")
-    data = gmshio.model_to_mesh(gmsh.model if comm.rank == 0 else None, comm, 0, gdim=2)
+    data = gmshio.model_to_mesh(gmsh.model if comm.rank == 0 else None, comm, 0, gdim=gdim)
     if comm.rank == 0:
         gmsh.finalize()
     return data
