@@ -21,10 +21,29 @@ density per unit reference area through :meth:`AxisymmetricMembrane.integral`.
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 from mpi4py import MPI
 
 import ufl
+from dolfinx import fem
+
+from bcfem.mpi import global_sum
+
+
+class ReferenceMean:
+    """The reference measure and the mean over it, for kinematics whose ``integral(density)``
+    integrates over the reference body (fixed: no unknown in the reference map)."""
+
+    @cached_property
+    def reference_measure(self) -> float:
+        """The reference body's area or volume, int 1 (collective on first use)."""
+        return global_sum(fem.form(self.integral(1.0)))
+
+    def mean(self, density):
+        """The reference mean of ``density``, (1/|body|) int density, as a form: e.g. the
+        mesh-independent inner product of arc length (:class:`bcfem.continuation.ArcLength`)."""
+        return self.integral(density / self.reference_measure)
 
 
 def scaled(radius):

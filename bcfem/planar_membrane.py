@@ -17,15 +17,12 @@ the field (0, 0, z), :math:`V = \int z\, n_z\, dA` with the area vector per refe
 
 from __future__ import annotations
 
-from functools import cached_property
-
 import ufl
-from dolfinx import fem
 
-from bcfem.mpi import global_sum
+from bcfem.kinematics import ReferenceMean
 
 
-class PlanarMembrane:
+class PlanarMembrane(ReferenceMean):
     """Stretches, area and enclosed volume of a membrane whose reference state is flat.
 
     With ``relaxed`` the membrane cannot carry compression (tension-field theory): where the
@@ -74,15 +71,10 @@ class PlanarMembrane:
         dx = self._dx if region is None else self._dx(region)
         return density * dx
 
-    @cached_property
+    @property
     def reference_area(self) -> float:
         """The reference outline's area (collective on first use)."""
-        return global_sum(fem.form(self.integral(1.0)))
-
-    def mean(self, density):
-        """The reference-area mean of ``density``, (1/A) int density dA, as a form
-        (the arc-length inner product, as :meth:`AxisymmetricMembrane.mean`)."""
-        return self.integral(density / self.reference_area)
+        return self.reference_measure
 
     @property
     def area_stretch(self):

@@ -10,18 +10,15 @@ it or a periodic cell of an array, with no weight 2πr anywhere.
 
 from __future__ import annotations
 
-from functools import cached_property
-
 import ufl
-from dolfinx import fem
 
-from bcfem.mpi import global_sum
+from bcfem.kinematics import ReferenceMean
 
 #: the index of the vertical axis (the plate is z = 0)
 VERTICAL = 2
 
 
-class Solid3D:
+class Solid3D(ReferenceMean):
     """F, J and I1 of a three-dimensional body.
 
     Args:
@@ -65,14 +62,9 @@ class Solid3D:
         dx = self._dx if region is None else self._dx(region)
         return density * dx
 
-    @cached_property
+    @property
     def reference_volume(self) -> float:
-        """The body's reference volume (collective on first use)."""
-        return global_sum(fem.form(self.integral(1.0)))
-
-    def mean(self, density):
-        """The reference-volume mean of ``density``, as a form (the arc-length inner product)."""
-        return self.integral(density / self.reference_volume)
+        return self.reference_measure
 
     def surface_integral(self, density, boundary: int | tuple[int, ...]):
         """``density`` integrated over the reference boundary part ``boundary``."""
