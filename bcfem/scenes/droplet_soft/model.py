@@ -247,8 +247,13 @@ class DropletSoft:
             row = self.observe(1.0, problem.iterations)
             run.record(row)
             if math.copysign(1, row["neumann_misfit"]) != math.copysign(1, misfit):
-                path.root(before, trial, lambda: self._tip_misfit(), xtol=1e-9 * trial)
-                run.record(self.observe(1.0, problem.iterations))
+                found = path.root(before, trial, lambda: self._tip_misfit(), xtol=1e-9 * trial)
+                row = self.observe(1.0, problem.iterations)
+                run.record(row)
+                if abs(row["neumann_misfit"]) > 1e-6:  # a sign change without a zero: two tip states
+                    raise SteppingError(f"--control neumann: the misfit jumps through zero at the volume {found:.6g} "
+                                        f"R0^3 (left at {row['neumann_misfit']:.2e}): the tip has two states "
+                                        "there, and no volume zeroes it", 1.0)
                 return
             volume, misfit = trial, row["neumann_misfit"]
         raise SteppingError(f"--control neumann: the misfit keeps its sign ({misfit:.2e}) down to the volume "
