@@ -128,6 +128,25 @@ def test_refine_halves_every_size():
     assert 0.5e-2 / 1.5 < length < 1.5 * 0.5e-2
 
 
+def test_size_wetted_caps_the_wetted_top_only():
+    """size_wetted bounds the facets on R < R0 (a blister's free membrane lies there), leaves the
+    grading at the contact point and beyond the wetted top as it was, and the cell estimate
+    follows it (within 15 %)."""
+    geometry = SubstrateGeometry(size_contact=1e-2, growth=1.25, size_wetted=0.05)
+    data = create_mesh(geometry, MPI.COMM_SELF)
+    msh = data.mesh
+    wetted = data.facet_tags.find(WETTED)
+    ends = msh.geometry.x[entities_to_geometry(msh, 1, wetted)[:, :2]][..., :2]
+    lengths = np.linalg.norm(ends[:, 0] - ends[:, 1], axis=1)
+    assert lengths.max() < 1.3 * 0.05 and lengths.sum() == pytest.approx(1.0, rel=1e-12)
+    plain = SubstrateGeometry(size_contact=1e-2, growth=1.25)
+    assert geometry.size_at(1.0, 0.0) == plain.size_at(1.0, 0.0)
+    assert geometry.size_at(5.0, -3.0) == plain.size_at(5.0, -3.0)
+    assert geometry.size_at(0.0, 0.0) == pytest.approx(0.05) and plain.size_at(0.0, 0.0) == pytest.approx(0.26)
+    cells = msh.topology.index_map(2).size_global
+    assert abs(geometry.estimated_cells() / cells - 1) < 0.15, (geometry.estimated_cells(), cells)
+
+
 def test_thin_layer_far_size_resolves_its_thickness():
     assert SubstrateGeometry().far_size == pytest.approx(1.0)  # L R0 / 10
     assert SubstrateGeometry(thickness=0.1).far_size == pytest.approx(0.025)  # four elements across

@@ -52,6 +52,10 @@ class SubstrateGeometry:
             min(L / 10, H / (4 R0)), so that a thin layer has four elements
             across.
         growth: ratio g of the sizes of neighbouring elements, in (1, 2].
+        size_wetted: largest element size on the wetted top (R < R0), in R0; the size
+            grows from that line into the block with the same ratio g. None: the
+            grading from the contact point alone (a membrane over the wetted top, a
+            blister's, needs this far from the contact line where the grading is coarse).
         refine: k >= 0 scales every element size by 1 / 2^k (the grading
             function, not the growth ratio of the coarse mesh), for sequences
             of meshes in convergence studies; each level has about four times
@@ -67,6 +71,7 @@ class SubstrateGeometry:
     size_contact: float = 2e-3
     size_far: float | None = None
     growth: float = 1.2
+    size_wetted: float | None = None
     refine: int = 0
     order: int = 1
 
@@ -84,6 +89,8 @@ class SubstrateGeometry:
         require(self.size_contact < self.far_size,
                 f"size_contact must be < size_far = {self.far_size:g} (got {self.size_contact})")
         require(1 < self.growth <= 2, f"growth must be in (1, 2] (got {self.growth})")
+        require(self.size_wetted is None or self.size_contact <= self.size_wetted,
+                f"size_wetted must be >= size_contact = {self.size_contact} (got {self.size_wetted})")
         require(isinstance(self.refine, int) and self.refine >= 0,
                 f"refine must be an integer >= 0 (got {self.refine})")
         require(self.order in (1, 2), f"order must be 1 or 2 (got {self.order})")
@@ -112,6 +119,17 @@ class SubstrateGeometry:
         size = np.minimum(self.size_contact * r0 + slope * np.asarray(distance), self.far_size * r0)
         return size / 2**self.refine
 
+    def size_at(self, R, Z):
+        """The target element size at the point (R, Z) (numbers or arrays, absolute units): the
+        grading from the contact point, capped by that from the wetted top if ``size_wetted``."""
+        r0 = self.contact_radius
+        size = self.element_size(np.hypot(np.asarray(R) - r0, Z))
+        if self.size_wetted is not None:
+            beyond = np.hypot(np.maximum(np.asarray(R) - r0, 0.0), Z)  # distance to the segment
+            wetted = np.minimum(self.size_wetted * r0 + (self.growth - 1) * beyond, self.far_size * r0)
+            size = np.minimum(size, wetted / 2**self.refine)
+        return size
+
     def estimated_cells(self) -> float:
         """The triangles gmsh makes, before meshing: the block's area over that of an equilateral
         triangle of the local size, summed on a grid graded towards the contact point (within
@@ -125,7 +143,7 @@ class SubstrateGeometry:
         r = graded(0.0, self.width, self.contact_radius)
         z = graded(-self.height, 0.0, 0.0)
         R, Z = np.meshgrid(0.5 * (r[1:] + r[:-1]), 0.5 * (z[1:] + z[:-1]))
-        size = self.element_size(np.hypot(R - self.contact_radius, Z))
+        size = self.size_at(R, Z)
         return float(np.sum(np.outer(np.diff(z), np.diff(r)) / (np.sqrt(3) / 4 * size**2)))
 
 
@@ -164,7 +182,21 @@ def build_model(geometry: SubstrateGeometry):
     field.setNumber(threshold, "SizeMax", h_max)
     field.setNumber(threshold, "DistMin", 0.0)
     field.setNumber(threshold, "DistMax", (h_max - h_min) * 2**g.refine / (g.growth - 1))
-    field.setAsBackgroundMesh(threshold)
+    background = threshold
+    if g.size_wetted is not None:  # the same slope from the wetted top, the smaller size wins
+        h_wet = g.size_wetted * r0 / 2**g.refine
+        to_top = field.add("Distance")
+        field.setNumbers(to_top, "CurvesList", [lines[0]])
+        field.setNumber(to_top, "Sampling", max(100, int(4 * r0 / h_wet)))
+        wetted = field.add("Threshold")
+        field.setNumber(wetted, "InField", to_top)
+        field.setNumber(wetted, "SizeMin", h_wet)
+        field.setNumber(wetted, "SizeMax", h_max)
+        field.setNumber(wetted, "DistMin", 0.0)
+        field.setNumber(wetted, "DistMax", max(h_max - h_wet, 0.0) * 2**g.refine / (g.growth - 1))
+        background = field.add("Min")
+        field.setNumbers(background, "FieldsList", [threshold, wetted])
+    field.setAsBackgroundMesh(background)
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
