@@ -3,12 +3,14 @@
 * the mapped reference configuration in closed form, and the standard battery (Taylor rates
   of residual and tangent, R1 included; 2 ranks equal COMM_SELF, marker ``mpi``);
 * the rigid limit: the onset approaches ``blister-rigid --edge adhesive`` with adhesion
-  gamma_ls - dgamma, ten times closer at ten times the stiffness (slow);
+  gamma_ls - dgamma, ten times closer at ten times the stiffness, for gamma_ls - dgamma = 0
+  and 2.5, and does not depend on dgamma itself (slow);
 * the onset two ways: the configurational force's sign change equals the zero of
   dF/dR1 at fixed V from the energies of two held models (slow);
 * the dissertation's fixed-R1 model's critical point lies on the propagating branch (slow);
 * ``mpirun -n 2`` equals serial through delamination (slow);
-* an inverting substrate stops the run with a clear message.
+* an inverting substrate stops the run with a clear message;
+* Fig. 4.8's parameters from the default --v-start: the scene chooses the start (slow).
 """
 
 import json
@@ -142,6 +144,47 @@ def test_onset_tends_to_the_rigid_adhesive_edge(tmp_path):
         assert fine[0] < coarse[0] / 5 and fine[1] < coarse[1] / 5, errors
 
 
+def onset_of(scene) -> dict:
+    from bcfem.scenes.blister_soft.path import trace
+
+    (event,) = trace(scene).events
+    return event
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+@pytest.mark.parametrize("gamma_ls, delta_gamma, v_max", [(3.0, 0.5, 3.2), (0.5, 0.5, 0.3)])
+def test_rigid_limit_of_the_onset_for_any_interface_energies(gamma_ls, delta_gamma, v_max):
+    """On a rigid substrate only the difference gamma_ls - dgamma of the two interface energies the
+    front trades costs energy (the areas under them sum to the block's top). The onset at ratios
+    1e3, 1e4, 1e5 approaches blister-rigid's with adhesion gamma_ls - dgamma (the error falls by
+    at least 5 per decade, O(1/ratio)) to better than 1e-3 at 1e5, on Fig. 3.14's difference 2.5
+    (onset V/V0 = 3.064, where the release rate is flat in V) and on 0; and at 1e5 shifting both
+    energies by 2 leaves it (to the O(gamma/ratio) the substrate's own surface stress moves it)."""
+    from bcfem.runner import branch_of
+    from bcfem.scenes import blister_rigid
+
+    rigid = branch_of(blister_rigid.build(blister_rigid.Params(
+        material="neo-hookean", alpha=0.5, edge="adhesive", adhesion=gamma_ls - delta_gamma, v_max=v_max),
+        MPI.COMM_SELF)).events[0]
+
+    def soft(ratio, shift=0.0):
+        params = blister_soft.Params(edge="adhesive", stiffness_ratio=ratio, alpha=0.5, gamma_ls=gamma_ls + shift,
+                                     delta_gamma=delta_gamma + shift, v_max=v_max)
+        return onset_of(blister_soft.build(params, MPI.COMM_SELF))
+
+    onsets = [soft(ratio) for ratio in (1e3, 1e4, 1e5)]
+    errors = [abs(o["V_over_V0"] - rigid["V_over_V0"]) for o in onsets]
+    print(f"gamma_ls - dgamma = {gamma_ls - delta_gamma}: rigid onset {rigid['V_over_V0']:.6f}; soft at 1e3, 1e4, "
+          f"1e5: {[round(o['V_over_V0'], 6) for o in onsets]}, errors {errors}, "
+          f"rates {[math.log10(a / b) for a, b in zip(errors, errors[1:])]}")
+    assert errors[2] < 1e-3, errors
+    assert errors[1] < errors[0] / 5 and errors[2] < errors[1] / 5, errors
+    assert onsets[2]["P"] == pytest.approx(rigid["P"], rel=1e-3)
+    shifted = soft(1e5, shift=2.0)
+    assert shifted["V_over_V0"] == pytest.approx(onsets[2]["V_over_V0"], abs=1e-5)
+
+
 @pytest.mark.slow
 @pytest.mark.serial
 def test_onset_by_configurational_force_equals_energy_comparison():
@@ -198,15 +241,37 @@ def test_two_ranks_equal_serial_through_delamination(tmp_path):
 
 @pytest.mark.serial
 def test_an_inverting_substrate_fails_with_a_clear_message(tmp_path):
-    """Fig. 4.8's tensions (dgamma = 0) at stiffness ratio 2: the bulk must carry a line force
-    of about mu_f t0 and the substrate inverts at the contact line; the run stops (exit 1)
-    naming it instead of accepting the state."""
+    """Fig. 4.8's tensions (dgamma = 0) at stiffness ratio 2 on the grading-only mesh (no
+    --size-wetted): the homotopy from the stiff start at V/V0 = 0.05 reaches a state whose
+    substrate inverts at the contact line; with --v-max 0.09 no larger start volume is tried,
+    and the run stops (exit 1) naming the inversion instead of accepting the state."""
     out = tmp_path / "out"
-    result = bcfem("run", "blister-soft", "--stiffness-ratio", "2", "--delta-gamma", "0", "--v-max", "1",
-                   "--out", out)
+    result = bcfem("run", "blister-soft", "--stiffness-ratio", "2", "--delta-gamma", "0", "--v-max", "0.09",
+                   "--size-wetted", "0", "--out", out)
     assert result.returncode == 1, result.stderr[-2000:]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "failed" and "substrate inverts" in summary["error"]
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+def test_fig_4_8_parameters_start_where_the_branch_exists(tmp_path):
+    """Fig. 4.8's parameters (gamma_l = gamma_ls = 0.5, dgamma = 0, ratio 2), adhesive edge, from
+    the default --v-start: the start at V/V0 = 0.05 fails, the scene starts from a larger cap and
+    traces back until the branch ends (the free membrane compressed everywhere); the run exits
+    0, every row has J > 0, and the onset is the one a start at V/V0 = 0.3 finds (one branch)."""
+    args = ("blister-soft", "--stiffness-ratio", "2", "--delta-gamma", "0", "--edge", "adhesive", "--v-max", "0.6")
+    chosen, out = run(tmp_path, "chosen", *args)
+    given, _ = run(tmp_path, "given", *args, "--v-start", "0.3")
+    rows = read_csv(out / "branch.csv")
+    assert min(row["J_min"] for row in rows) > 0
+    start = chosen["branch_start"]
+    assert start["v_start"] == 0.05 and rows[0]["V_over_V0"] == pytest.approx(start["V_over_V0"], rel=1e-12)
+    assert 0.05 < start["V_over_V0"] < chosen["delamination_onset"]["V_over_V0"]
+    assert rows[0]["compressed_fraction"] == pytest.approx(1.0)
+    assert given["branch_start"] is None
+    for key in ("V_over_V0", "P", "r1_over_R0"):
+        assert chosen["delamination_onset"][key] == pytest.approx(given["delamination_onset"][key], rel=1e-6)
 
 
 @pytest.mark.serial

@@ -52,7 +52,8 @@ class SubstrateGeometry:
             min(L / 10, H / (4 R0)), so that a thin layer has four elements
             across.
         growth: ratio g of the sizes of neighbouring elements, in (1, 2].
-        size_wetted: largest element size on the wetted top (R < R0), in R0; the size
+        size_wetted: largest element size on the wetted top (R < R0, the contact point
+            too), in R0; the size
             grows from that line into the block with the same ratio g. None: the
             grading from the contact point alone (a membrane over the wetted top, a
             blister's, needs this far from the contact line where the grading is coarse).
@@ -89,8 +90,7 @@ class SubstrateGeometry:
         require(self.size_contact < self.far_size,
                 f"size_contact must be < size_far = {self.far_size:g} (got {self.size_contact})")
         require(1 < self.growth <= 2, f"growth must be in (1, 2] (got {self.growth})")
-        require(self.size_wetted is None or self.size_contact <= self.size_wetted,
-                f"size_wetted must be >= size_contact = {self.size_contact} (got {self.size_wetted})")
+        require(self.size_wetted is None or self.size_wetted > 0, f"size_wetted must be > 0 (got {self.size_wetted})")
         require(isinstance(self.refine, int) and self.refine >= 0,
                 f"refine must be an integer >= 0 (got {self.refine})")
         require(self.order in (1, 2), f"order must be 1 or 2 (got {self.order})")

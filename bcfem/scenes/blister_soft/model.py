@@ -200,6 +200,12 @@ def observables(model: Model):
     """Compile the observables once; returns a collective callable."""
     ctx, u, w = model.ctx, model.u, model.w
     volume = model.form(model.gap.integral(model.gap.volume_density))
+    # where a principal tension of the free membrane is negative: N_i has the sign of
+    # lambda_i^2 - 1/(lambda_r lambda_theta)^2 for neo-Hookean and Gent (a membrane without
+    # bending stiffness would wrinkle there)
+    f = model.free
+    compressed = ufl.conditional(ufl.Or(ufl.lt(f.lam_theta**2 * f.lam_r, 1), ufl.lt(f.lam_r**2 * f.lam_theta, 1)), 1, 0)
+    compressed = model.form(f.integral(compressed))
     energy = model.form(sum(t.energy(ctx) for t in model.terms))
     centre = PointEvaluator(model.mesh, [0.0, 0.0]).expression(u[1])
     W = w.function_space
@@ -222,6 +228,7 @@ def observables(model: Model):
         z_s = float(centre()[0])
         here = line()
         e_f, e_ls, e_s = here["e_f"], here["e_ls"], here["e_s"]
+        debond_radius = real_value(ctx.states["debond_radius"]) if front else 1.0
         return {
             "V_over_V0": global_sum(volume) / V0,
             "P": real_value(pressure),
@@ -232,7 +239,7 @@ def observables(model: Model):
             "contact_angle_deg": 180.0 - angle(e_f, np.array([1.0, 0.0])),
             "indentation": -z_s,
             "r1_over_R0": here["r0"],
-            "R1_over_R0": real_value(ctx.states["debond_radius"]) if front else 1.0,
+            "R1_over_R0": debond_radius,
             **({"dPi_dR1": global_sum(front) / math.pi} if front else {}),
             "energy": global_sum(energy) / math.pi - model.energy_offset,
             "z_apex": z_s + lift_apex,
@@ -242,6 +249,7 @@ def observables(model: Model):
             "substrate_angle_deg": angle(e_ls, e_s),
             "membrane_angle_deg": angle(e_f, e_s),
             "J_min": -inversion(),
+            "compressed_fraction": global_sum(compressed) / (math.pi * debond_radius**2),
             "_line": here,
         }
 
@@ -282,8 +290,13 @@ def build(params: Params, comm, data=None) -> Scene:
         continuation=params.continuation,
         plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μf t0)"),
                "indentation.png": ("V_over_V0", "indentation", "V/V0", "-z_s(0)/R0")},
-        load_scale=max(1.0, 2 * params.alpha), guard=guard, summarize=summarize, params=params,
-        columns=COLUMNS, rows=model.rows, switches=switches)
+        load_scale=max(1.0, 2 * params.alpha), guard=guard, params=params,
+        summarize=lambda branch: summarize(branch, scene.start_report),
+        columns=COLUMNS, rows=model.rows, switches=switches,
+        # the residual's round-off floor: a stiff substrate's stress k(F - F^-T) at F ~ I loses
+        # k eps; in the unit k/1000 (path.energy_scale) that is ~1e-10 from k = 1e3 on, where
+        # Newton stalled on converged states at k = 1e5 and 1e6 with bcfem's 1e-10
+        petsc_options={"snes_atol": 1e-9})
     scene.norm = {"displacement": 1.0, "lift": 1.0}
     scene.mean = model.free.mean
     scene.model = model
@@ -291,9 +304,10 @@ def build(params: Params, comm, data=None) -> Scene:
     return scene
 
 
-def summarize(branch) -> dict:
+def summarize(branch, start_report=None) -> dict:
     """``indentation_max``: the deepest indentation along the branch (a parabola through the
-    three rows around the deepest one), and where it is."""
+    three rows around the deepest one), and where it is; ``branch_start``: None, or where the
+    branch begins when no regular state reaches down to ``v_start`` (:func:`.path.trace`)."""
     depth = branch.column("indentation")
     volume = branch.column("V_over_V0")
     k = int(np.argmax(depth))
@@ -304,7 +318,7 @@ def summarize(branch) -> dict:
             v = -c[1] / (2 * c[0])
             result = {"V_over_V0": float(v), "depth": float(np.polyval(c, v)), "interior": True}
     onset = next((e for e in branch.events if e["name"] == "delamination onset"), None)
-    return {"indentation_max": result,
+    return {"indentation_max": result, "branch_start": start_report,
             "delamination_onset": None if onset is None else {
                 key: onset[key] for key in ("V_over_V0", "P", "r1_over_R0", "energy", "dPi_dR1")}}
 

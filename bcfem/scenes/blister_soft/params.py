@@ -47,6 +47,10 @@ Units and normalisations (all inputs and outputs are dimensionless):
   R1_over_R0       = debond radius (material) / R0; dPi_dR1 over pi mu_f t0 R0
   J_min            = the substrate's smallest volume ratio (a state with J_min <= 0
                      is refused: the substrate would invert)
+  compressed_fraction
+                   = the fraction of the free membrane's reference area where a principal
+                     tension is negative (hoop compression where the contact line is dragged
+                     inwards; the membrane has no bending stiffness and would wrinkle there)
   energy           = (Pi - gamma_ls pi R0^2 - dgamma pi (L^2 - 1) R0^2)/(pi R0^2 mu_f t0)
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/indentation.png,
 DIR/fields.bp (VTX, the substrate; the displacement is the position minus the mesh
@@ -67,11 +71,13 @@ HELP = {
     "size_contact": "element size at the contact line, in R0",
     "size_far": "largest element size, in R0 (0: L/10)",
     "growth": "size ratio of neighbouring elements",
+    "size_wetted": "largest element size on the wetted top (the free membrane), in R0 (0: the grading alone)",
     "refine": "halve every element size this many times",
     "kappa_ratio": "bulk over shear modulus of the substrate",
 }
 COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0", "energy",
-           "z_apex", "R1_over_R0", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "J_min", "s"]
+           "z_apex", "R1_over_R0", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "J_min",
+           "compressed_fraction", "s"]
 EDGES = ("bonded", "adhesive")
 #: half-width of the region around the contact line that the moving front translates, in R0
 FRONT_PLATEAU = 0.25
@@ -108,6 +114,7 @@ class Params:
     size_contact: float = 0.01
     size_far: float = 0.0
     growth: float = 1.25
+    size_wetted: float = 0.05
     refine: int = 0
     kappa_ratio: float = 1e4
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds=0.02, ds_max=0.05))
@@ -118,7 +125,8 @@ class Params:
         "gamma_ls": Bound(0, 1e6), "delta_gamma": Bound(0, 1e6), "size_factor": Bound(1, 100, open_low=True),
         "v_max": Bound(0, 1e3, open_low=True), "v_start": Bound(0, 1e3, open_low=True, open_high=True),
         "size_contact": Bound(1e-4, 0.5), "size_far": Bound(1e-3, 100, also=(0.0,)),
-        "growth": Bound(1, 2, open_low=True), "refine": Bound(0, 6, integer=True), "kappa_ratio": Bound(10, 1e8)}
+        "growth": Bound(1, 2, open_low=True),
+        "size_wetted": Bound(1e-4, 1, also=(0.0,)), "refine": Bound(0, 6, integer=True), "kappa_ratio": Bound(10, 1e8)}
 
     def __post_init__(self):
         check_bounds(self)
@@ -133,4 +141,5 @@ class Params:
 
     def geometry(self) -> SubstrateGeometry:
         return SubstrateGeometry(size_factor=self.size_factor, size_contact=self.size_contact,
-                                 size_far=self.size_far or None, growth=self.growth, refine=self.refine)
+                                 size_far=self.size_far or None, growth=self.growth, refine=self.refine,
+                                 size_wetted=self.size_wetted or None)

@@ -8,7 +8,9 @@ then close to the rigid one, and a cap is a good guess), and the modulus k (a ru
 constant) is lowered to its value in geometric steps (and large interface energies raised
 from O(1) to theirs), the membrane's shape held by the arc-length start row (its amplitude
 along the cap). The branch is then traced in P from
-that point, first back to ``v_start`` if it moved, then forwards to ``v_max``.
+that point, first back to ``v_start`` if it moved, then forwards to ``v_max``. Where no
+start converges at ``v_start`` the cap's volume is doubled (:func:`begin`) and the branch is
+traced back as far as it goes.
 """
 
 from __future__ import annotations
@@ -20,6 +22,11 @@ from bcfem.scene import Scene
 
 #: the modulus of the first point: stiff enough for Newton from a cap on a flat substrate
 STIFF_START = 1e3
+#: Newton iterations an arc-length step may take before it is halved. Near the pressure maximum
+#: of a stiff substrate a long Newton path from the predictor lands on another equilibrium (the
+#: free membrane's material points crowded at the contact line, higher free energy at the same
+#: V) that the step's norm, a mean over the wetted top, barely sees; branch steps take 2-5.
+STEP_ITERATIONS = 8
 
 
 class SoftScene(Scene):
@@ -30,6 +37,8 @@ class SoftScene(Scene):
     norm: dict | None = None
     mean: object = None
     model: object = None
+    #: set by :func:`trace`: None, or where the branch begins when it cannot reach ``v_start``
+    start_report: dict | None = None
 
     def solve(self, run) -> None:
         run.watch(self.fields)
@@ -88,11 +97,50 @@ def start_path(ctx, params):
     return path
 
 
+def begin(scene, arc, problem, path) -> float:
+    """Converge the first point at the parameters, from a cap of volume ``v_start`` on a stiff
+    substrate; returns the cap's volume. Where that fails (the homotopy stalls, or the state is
+    refused), the cap's volume is doubled, up to ``v_max``: a blister whose contact line the
+    interface tensions drag inwards has its free membrane in compression at small volumes,
+    where the softened state may not exist, and the branch is then traced back from a larger one."""
+    params = scene.params
+    built, volume = problem.save(), params.v_start
+    while True:
+        path(0.0)
+        try:
+            start(arc, problem, _Start(scene.model, volume))
+            solves = homotopy(problem, path)
+            message = scene.guard(scene.observe())
+            if message is None:
+                logger.info(f"blister-soft: reached the parameters from a stiff start at V/V0 = {volume:g} "
+                            f"in {solves} solves")
+                return volume
+            failure = f"at the start: {message}"
+        except ContinuationError as err:
+            failure = str(err)
+        if 2 * volume >= params.v_max:
+            raise ContinuationError(failure)
+        logger.warning(f"blister-soft: no start at V/V0 = {volume:g} ({failure}); trying {2 * volume:g}")
+        problem.restore(built)
+        volume *= 2
+
+
+class _Start:
+    """The scene's start guess (a cap, :meth:`Model.cap_guess`) at a given volume, for :func:`start`."""
+
+    def __init__(self, model, volume: float):
+        self.model, self.volume = model, volume
+
+    def start(self, fraction: float) -> float:
+        return self.model.cap_guess(fraction * self.volume)
+
+
 def energy_scale(scene) -> float:
     """The residual's unit: the load's, or a stiff substrate's modulus over 1000. Round-off
     in the substrate's residual grows with its modulus k (about 1e-13 k) and stalled Newton
-    above its absolute tolerance on the adhesive edge at k = 1e4. A larger unit (k/100) let
-    the step control grow steps until the bonded branch jumped at k = 1e4."""
+    above its absolute tolerance on the adhesive edge at k = 1e4 (the scene's ``snes_atol``
+    sits above it). A larger unit (k/100) let the step control grow steps until the bonded
+    branch jumped at k = 1e4."""
     return max(scene.load_scale, scene.params.stiffness_ratio / 1000)
 
 
@@ -110,21 +158,28 @@ def trace(scene: SoftScene, on_accept=None, run=None):
         from bcfem.problem import Problem
         problem = Problem(*arguments, scene.prefix, **options)
     path = start_path(scene.ctx, params)
+    scene.start_report = None
     try:
-        path(0.0)
-        start(arc, problem, scene)
-        solves = homotopy(problem, path)
-        logger.info(f"blister-soft: reached the parameters from a stiff start in {solves} solves")
-        if message := scene.guard(scene.observe()):
-            raise ContinuationError(f"at the start: {message}")
+        volume = begin(scene, arc, problem, path)
         arc.restart_row(problem)
+        problem.snes.setTolerances(max_it=STEP_ITERATIONS)
         forward = arc.forward_sign(problem, scene.observe, scene.grows)
         back = None
         here = scene.observe()
         if here["V_over_V0"] > params.v_start * (1 + 1e-9):
             origin = problem.save()
-            back = arc.trace(problem, scene.observe, lambda v: params.v_start - v["V_over_V0"],
-                             scene.progress_keys, guard=scene.guard, direction=-forward)
+            try:
+                back = arc.trace(problem, scene.observe, lambda v: params.v_start - v["V_over_V0"],
+                                 scene.progress_keys, guard=scene.guard, direction=-forward)
+            except ContinuationError as err:
+                # no regular state between v_start and here (the start itself failed there):
+                # the branch begins where the trace back ended, and the summary says why
+                back = err.branch if err.branch.rows else None
+                first = back.rows[-1]["V_over_V0"] if back else here["V_over_V0"]
+                scene.start_report = {"v_start": params.v_start, "start_volume": volume,
+                                      "V_over_V0": first, "reason": str(err)}
+                logger.warning(f"blister-soft: the branch begins at V/V0 = {first:.4g}, not at --v-start "
+                               f"{params.v_start:g}: the start failed there and tracing back stopped ({err})")
             arc.restart_row(problem)
             if scene.end(here) >= 0:  # the end lies behind the start: the whole branch from v_start
                 back, forward = None, arc.forward_sign(problem, scene.observe, scene.grows)
