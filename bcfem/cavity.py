@@ -36,10 +36,14 @@ class Cavity:
     boundary: int | tuple[int, ...]
     contact_gap: float = 0.0
 
-    def volume(self, kin):
-        """The current volume as a form over the wall (kinematics with ``height``,
-        ``nanson()`` and ``surface_integral``)."""
+    def height(self, kin):
+        """The height z the volume integrates: z itself, or z^2 / sqrt(z^2 + g^2) with a gap g."""
         z = kin.height
         if self.contact_gap > 0:
             z = z * z / ufl.sqrt(z * z + self.contact_gap**2)
-        return kin.surface_integral(-z * kin.nanson()[1], self.boundary)
+        return z
+
+    def volume(self, kin):
+        """The current volume as a form over the wall (kinematics with ``height``,
+        ``nanson()`` and ``surface_integral``)."""
+        return kin.surface_integral(-self.height(kin) * kin.nanson()[1], self.boundary)

@@ -5,7 +5,8 @@ the cavity is two chambers: C1 on the plate and C2 under the roof. Their
 walls are the cavity's walls cut at one material point on the sidewall and one
 on the protuberance (the contact point's reference positions, of reference
 heights Z_w and Z_b). As for the whole cavity (:class:`bcfem.cavity.Cavity`),
-each volume follows from its walls by the divergence theorem with z e_z:
+each volume follows from its walls by the divergence theorem with z e_z (a bottom face that
+may lift off the plate, ``sealed``, bounds C1 as it bounds the cavity):
 
 .. math:: V_{C1}(u) = -\int_{\Gamma_w, Z < Z_w} z\,(\mathrm{cof}F\,N)_z\,dA
                       -\int_{\Gamma_b, Z < Z_b} z\,(\mathrm{cof}F\,N)_z\,dA + P,
@@ -33,6 +34,8 @@ import numpy as np
 import ufl
 from dolfinx import default_scalar_type, fem
 from dolfinx.mesh import entities_to_geometry
+
+from bcfem.cavity import Cavity
 
 
 def plug_flux(protuberance_point, sidewall_point) -> float:
@@ -67,12 +70,17 @@ class ChamberSplit:
         sidewall, roof, protuberance: the tags of the cavity's walls.
         sidewall_height, protuberance_height: the initial split heights Z_w and
             Z_b (snapped to vertices).
+        sealed: the tag of a bottom face that may lift off the plate (it bounds C1), or None.
+        contact_gap: the cavity's gap g (:class:`bcfem.cavity.Cavity`): with a sealed bottom,
+            the walls' height enters as z^2 / sqrt(z^2 + g^2), so that V_C1 + V_C2 = V.
     """
 
     def __init__(self, mesh, facet_tags, sidewall: int, roof: int, protuberance: int,
-                 sidewall_height: float = 0.0, protuberance_height: float = 0.0):
+                 sidewall_height: float = 0.0, protuberance_height: float = 0.0,
+                 sealed: int | None = None, contact_gap: float = 0.0):
         self.mesh = mesh
         self.sidewall, self.roof, self.protuberance = sidewall, roof, protuberance
+        self.sealed, self.height = sealed, Cavity(sidewall, contact_gap).height
         self._heights = {sidewall: wall_vertex_heights(mesh, facet_tags, sidewall),
                          protuberance: wall_vertex_heights(mesh, facet_tags, protuberance)}
         #: Z_w, the reference height of the split on the sidewall
@@ -115,7 +123,7 @@ class Chamber:
         with ``height``, ``nanson()`` and ``surface_integral``)."""
         s = self.split
         Z = ufl.SpatialCoordinate(s.mesh)[1]
-        flux = -kin.height * kin.nanson()[1]
+        flux = -s.height(kin) * kin.nanson()[1]
 
         def below(height):
             inside = ufl.conditional(ufl.lt(Z, height), 1.0, 0.0)
@@ -123,4 +131,6 @@ class Chamber:
 
         form = (kin.surface_integral(below(s.sidewall_height) * flux, s.sidewall)
                 + kin.surface_integral(below(s.protuberance_height) * flux, s.protuberance))
-        return form if self.lower else form + kin.surface_integral(flux, s.roof)
+        if not self.lower:
+            return form + kin.surface_integral(flux, s.roof)
+        return form if s.sealed is None else form + kin.surface_integral(flux, s.sealed)

@@ -5,23 +5,34 @@ the sidewall's contact with the protuberance is the wall's self-contact.
 Its chambers (:mod:`bcfem.chambers`) are split where the sidewall first touches the
 protuberance. The fluid force on the specimen is that of the chamber on the plate: the
 pressure difference times the plate's wetted annulus, between the protuberance's footprint
-and the sidewall's edge (the chamber under the roof is enclosed by the specimen alone)."""
+and the sidewall's edge (the chamber under the roof is enclosed by the specimen alone).
+
+With ``bottom = contact`` the bottom face out to the seal's reach bounds the cavity and C1 (it
+is tagged :data:`SEALED_BOTTOM`, not the single crater's tag, which is the sidewall's here), and
+the wetted area is dV/d(lift of the whole specimen), the annulus between the protuberance's
+footprint and the sealed contact line: C2 is enclosed by the specimen, so its volume does not
+change with a lift, and dV/d(lift) = dV_C1/d(lift)."""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
-from dolfinx import fem
+import ufl
+from dolfinx import fem, mesh
 
 from bcfem.bcs import component
+from bcfem.cavity import Cavity
 from bcfem.chambers import ChamberSplit
 from bcfem.geometry.double_crater import BOTTOM, OUTER, PROTUBERANCE, ROOF, SIDEWALL, TOP, WALLS, create_mesh
 from bcfem.mpi import global_sum
-from bcfem.scenes.crater.model import Crater
+from bcfem.scenes.crater.model import CONTACT_GAP, Crater
+from bcfem.scenes.crater.model import SEALED_BOTTOM as CRATER_SEALED_BOTTOM
 
 #: a wall node lies on a reference surface to this fraction of H (P2 nodes lie on it exactly)
 ON_SURFACE = 1e-6
+#: the facet tag of the bottom face inside the seal's reach (``bottom = contact``)
+SEALED_BOTTOM = 19
 
 
 class DoubleCrater(Crater):
@@ -33,8 +44,18 @@ class DoubleCrater(Crater):
 
     def __init__(self, params, comm):
         super().__init__(params, comm)
+        gap = CONTACT_GAP * self.geometry.crater_radius if self.bottom_contact else 0.0
+        if self.bottom_contact:  # the crater's cavity and wetted area, on this geometry's tag
+            self.cavity = Cavity((*self.walls, SEALED_BOTTOM), gap)
+            self.volume = fem.form(self.cavity.volume(self.ctx.kin))
+            lift = fem.Function(self.u.function_space)
+            lift.interpolate(lambda x: np.vstack([0 * x[0], 1 + 0 * x[0]]))
+            self._wetted = fem.form(ufl.derivative(self.cavity.volume(self.ctx.kin), self.u, lift))
+            del self.__dict__["wetted_area"]  # the crater's form; here a method
         # without a protuberance the cavity never splits
-        self.split = (ChamberSplit(self.mesh, self.facet_tags, SIDEWALL, ROOF, PROTUBERANCE)
+        sealed = SEALED_BOTTOM if self.bottom_contact else None
+        self.split = (ChamberSplit(self.mesh, self.facet_tags, SIDEWALL, ROOF, PROTUBERANCE, sealed=sealed,
+                                   contact_gap=gap)
                       if self.geometry.has_protuberance else None)
         self.chambers = self.split.chambers() if self.split else []
         self.chamber_volumes = [fem.form(c.volume(self.ctx.kin)) for c in self.chambers]
@@ -43,12 +64,20 @@ class DoubleCrater(Crater):
                                                        < ON_SURFACE * self.geometry.crater_height)
         self._protuberance_nodes = self._on_protuberance(X)
 
+    def _tag_sealed_bottom(self, msh, facets):
+        """The crater's retagging, to :data:`SEALED_BOTTOM` (the crater's tag is the sidewall's)."""
+        crater = super()._tag_sealed_bottom(msh, facets)
+        values = crater.values.copy()
+        values[(facets.values == BOTTOM) & (crater.values == CRATER_SEALED_BOTTOM)] = SEALED_BOTTOM
+        return mesh.meshtags(msh, 1, facets.indices, values)
+
     def _bcs(self, V, facets):
-        """The crater's; no slip of the bottom face with ``plate='sticking'``, of the top face
-        with ``top='bonded'``; the outer face on rollers for the cell of an array (``cell='array'``)."""
+        """The crater's; no slip of the bottom face with ``plate='sticking'`` (with ``bottom =
+        contact`` also where it lifts), of the top face with ``top='bonded'``; the outer face on
+        rollers for the cell of an array (``cell='array'``)."""
         bcs = super()._bcs(V, facets)
         if self.params.plate == "sticking":
-            bcs.append(component(V, 0, facets.find(BOTTOM)))
+            bcs.append(component(V, 0, np.concatenate([facets.find(BOTTOM), facets.find(SEALED_BOTTOM)])))
         if self.params.top == "bonded":
             bcs.append(component(V, 0, facets.find(TOP)))
         if self.params.cell == "array":
@@ -73,7 +102,10 @@ class DoubleCrater(Crater):
         return self.plate_edge(self._protuberance_nodes)
 
     def wetted_area(self) -> float:
-        """The plate's area wetted by the chamber on it: pi (r_edge^2 - r_footprint^2)."""
+        """The plate's area wetted by the chamber on it: pi (r_edge^2 - r_footprint^2); with the
+        bottom face in contact, dV/d(lift), r_edge the sealed contact line."""
+        if self.bottom_contact:
+            return global_sum(self._wetted)
         return math.pi * (self.open_radius() ** 2 - self.footprint_radius() ** 2)
 
     def sidewall_contact(self) -> tuple[float, float] | None:

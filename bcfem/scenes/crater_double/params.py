@@ -8,7 +8,7 @@ mu = p_a, a preload of 0.14.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import ClassVar
 
 from bcfem.geometry.double_crater import (
@@ -57,6 +57,8 @@ PETSc prefixes: bcfem_crater_double_load_ and bcfem_crater_double_unload_."""
 
 #: the bottom face's contact with the plate
 PLATES = ("frictionless", "sticking")
+#: ``--bottom``: the bottom face held on the plate, or in unilateral contact with it
+BOTTOMS = ("held", "contact")
 #: the top face on the platen: free to slide, or bonded to a rigid backing
 TOPS = ("sliding", "bonded")
 #: the specimen's outer face: free (one crater) or on rollers (the cell of a confined array)
@@ -64,6 +66,10 @@ CELLS = ("isolated", "array")
 FLUID_NAMES = ("air", "liquid")
 SEALS = ("rest", "preload")
 CONTACTS = ("separable", "bonded")
+#: ``--chambers``: bcfem's exact split at contact, or the dissertation's membrane from eps = 0
+CHAMBERS = ("split", "membrane")
+#: ``auto`` for the membrane's nodes and switch strain: found on a first (probe) run
+AUTO = -1.0
 #: the columns of ``branch.csv`` ("vapour": how many chambers hold a cavitated liquid)
 COLUMNS = ["stage", "eps", "chambers", "vapour", "p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "A_c1_over_A0",
            "F_tilde", "sidewall_gap", "fluid_law_residual"]
@@ -90,6 +96,42 @@ class Params:
     plate: str = field(default="sticking", metadata=describe(
         "the bottom face on the plate: frictionless (slides) or sticking (no slip); the crater's "
         "walls on the plate slide either way", "", PLATES))
+    bottom: str = field(default="held", metadata=describe(
+        "the bottom face on the plate: held (u_z = 0: ambient pressure holds a sealed interface down) or "
+        "contact (unilateral, free to lift off, the dissertation's model: the gap under a lifted rim "
+        "joins C1, whose wetted area is then the one the sealed contact line encloses); with --plate "
+        "sticking the face keeps its radius, on the plate and where it lifts", "", BOTTOMS))
+    chambers: str = field(default="split", metadata=describe(
+        "split: one cavity until the sidewall touches the protuberance, then two (exact); membrane: the "
+        "dissertation's model (sec. 9.2), two chambers from eps = 0 divided by a virtual membrane between "
+        "a sidewall node and a protuberance node, the gas exchanged by eq. 9.1 at --exchange-before "
+        "until --switch-strain and at --exchange-after from there and in unloading (air sealed at rest)",
+        "", CHAMBERS))
+    exchange_before: float = field(default=0.01, metadata=describe(
+        "C_V of eq. 9.1, (p_c1 - p_c2) A = C_V dm/dt, while loading below --switch-strain (--chambers "
+        "membrane); normalised: pressures over p_a, gas masses m = p V over p_a H^3, A = H^2, t the "
+        "step's pseudo-time eps/preload (loading) or (preload - eps)/preload (unloading); small: "
+        "connected, 0: one cavity, inf: no exchange", bound=Bound(0, 1e12, also=(math.inf,))))
+    exchange_after: float = field(default=1e4, metadata=describe(
+        "C_V of eq. 9.1 from --switch-strain on and in unloading (--chambers membrane); large: "
+        "disconnected, inf: no exchange", bound=Bound(0, 1e12, also=(math.inf,))))
+    switch_strain: float = field(default=AUTO, metadata=describe(
+        "eps_a, where C_V switches (--chambers membrane); auto: found on a first run with the exact "
+        "split, where the membrane's nodes first touch or come closest while loading to the preload",
+        words={"auto": AUTO}, bound=Bound(0, 0.9, open_high=True, also=(AUTO,), spelled=("auto",))))
+    membrane_sidewall: float = field(default=AUTO, metadata=describe(
+        "Z_w / H of the membrane's sidewall node (Node-2, snapped to a mesh vertex); auto: with "
+        "--membrane-protuberance auto, the pair of vertices that first touch or come closest on the "
+        "first run (the dissertation's closest nodes at eps_a)",
+        words={"auto": AUTO}, bound=Bound(0, 1, open_low=True, open_high=True, also=(AUTO,), spelled=("auto",))))
+    membrane_protuberance: float = field(default=AUTO, metadata=describe(
+        "Z_b / H of the membrane's protuberance node (Node-1, snapped to a mesh vertex); auto: see "
+        "--membrane-sidewall", words={"auto": AUTO},
+        bound=Bound(0, 1, open_low=True, open_high=True, also=(AUTO,), spelled=("auto",))))
+    membrane_stiffness: float = field(default=1e-6, metadata=describe(
+        "mu_m t / (mu H): the membrane's modulus times its thickness (a ring membrane, Saint "
+        "Venant-Kirchhoff, Poisson's ratio 0); 0: a massless, stiffness-free divider",
+        bound=Bound(0, 1)))
     top: str = field(default="sliding", metadata=describe(
         "the top face on the platen: sliding (frictionless) or bonded (no slip: a specimen on a rigid "
         "backing)", "", TOPS))
@@ -133,13 +175,28 @@ class Params:
     layer_thickness: ClassVar[float] = 0.0
     layer_stiffness: ClassVar[float] = 1.0
     BUDGETS: ClassVar[tuple] = ("max_snaps",)
+    #: parameters added after the maps were solved: left out of a sweep point's digest at their default
+    LATER: ClassVar[tuple] = ("bottom", "chambers", "exchange_before", "exchange_after", "switch_strain",
+                              "membrane_sidewall", "membrane_protuberance", "membrane_stiffness")
+    #: the membrane model's own parameters
+    MEMBRANE: ClassVar[tuple] = LATER[2:]
 
     def __post_init__(self):
         check_bounds(self)
         for name, choices in (("fluid", FLUID_NAMES), ("seal", SEALS), ("contact", CONTACTS),
-                              ("plate", PLATES), ("top", TOPS), ("cell", CELLS)):
+                              ("plate", PLATES), ("bottom", BOTTOMS), ("top", TOPS), ("cell", CELLS)):
             require(getattr(self, name) in choices, f"--{name} must be one of {list(choices)} "
                     f"(got {getattr(self, name)!r})")
+        require(self.chambers in CHAMBERS, f"--chambers must be one of {list(CHAMBERS)} (got {self.chambers!r})")
+        if self.chambers == "split":
+            changed = [f.name for f in fields(self) if f.name in self.MEMBRANE and getattr(self, f.name) != f.default]
+            require(not changed, f"--{changed[0].replace('_', '-') if changed else ''} needs --chambers membrane")
+        else:
+            require(self.fluid == "air" and self.seal == "rest" and self.protuberance_radius > 0,
+                    "--chambers membrane models air sealed at rest with a protuberance "
+                    "(--fluid air, --seal rest, --protuberance-radius > 0)")
+            require((self.membrane_sidewall == AUTO) == (self.membrane_protuberance == AUTO),
+                    "--membrane-sidewall and --membrane-protuberance are given together or both auto")
         require(self.size_contact <= self.size_wall,
                 f"--size-contact must be at most --size-wall = {self.size_wall:g} (got {self.size_contact:g})")
         with flags_named(self):
