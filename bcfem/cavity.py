@@ -45,5 +45,5 @@ class Cavity:
 
     def volume(self, kin):
         """The current volume as a form over the wall (kinematics with ``height``,
-        ``nanson()`` and ``surface_integral``)."""
-        return kin.surface_integral(-self.height(kin) * kin.nanson()[1], self.boundary)
+        ``vertical_area()`` and ``surface_integral``)."""
+        return kin.surface_integral(-self.height(kin) * kin.vertical_area(), self.boundary)

@@ -120,10 +120,10 @@ class Chamber:
 
     def volume(self, kin):
         """The chamber's current volume without the plug, as a form over its walls (kinematics
-        with ``height``, ``nanson()`` and ``surface_integral``)."""
+        with ``height``, ``vertical_area()`` and ``surface_integral``)."""
         s = self.split
         Z = ufl.SpatialCoordinate(s.mesh)[1]
-        flux = -s.height(kin) * kin.nanson()[1]
+        flux = -s.height(kin) * kin.vertical_area()
 
         def below(height):
             inside = ufl.conditional(ufl.lt(Z, height), 1.0, 0.0)

@@ -80,6 +80,10 @@ class ModeKinematics:
         N = ufl.as_vector([self.normal[0], self.normal[1], 0])
         return ufl.dot(ufl.cofac(self.F), N)
 
+    def vertical_area(self):
+        """The z component of :meth:`nanson`."""
+        return self.nanson()[1]
+
     # the theta-integral of cos^2(n theta) or sin^2(n theta) is pi, half the axisymmetric 2 pi
     def integral(self, density, region: int | None = None):
         return 0.5 * self.base.integral(density, region)

@@ -78,7 +78,7 @@ class SphericalCapDrop:
 
         area = at_contact(ufl.pi * (1 + t * t) * r**2)
         volume = (at_contact(ufl.pi / 6 * t * (3 + t * t) * r**3 + ufl.pi * r**2 * z)
-                  - kin.surface_integral(z * kin.nanson()[1], self.wetted))
+                  - kin.surface_integral(z * kin.vertical_area(), self.wetted))
         # V0 spread along the wetted meridian (length R0), so that the term is one form
         spread = kin.line_integral(v0 / self.contact_radius, self.wetted)
         return gamma * area - p * volume + p * spread
