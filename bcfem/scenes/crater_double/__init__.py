@@ -14,9 +14,11 @@ from bcfem.scenes.crater_double.params import COLUMNS, DESCRIPTION, SUMMARY, Par
 
 def build(params: Params, comm, model_class=None):
     """The double-crater scene (meshed when solved), for :mod:`bcfem.runner`."""
+    from bcfem.scenes.crater_double.membrane import MembraneCycle
     from bcfem.scenes.crater_double.stages import DoubleCraterCycle
 
-    return DoubleCraterCycle(params, comm, *(model_class,) if model_class else ())
+    cycle = MembraneCycle if params.chambers == "membrane" else DoubleCraterCycle
+    return cycle(params, comm, *(model_class,) if model_class else ())
 
 
 def solve(params: Params, comm, model_class=None) -> tuple[list[dict], dict]:

@@ -37,6 +37,8 @@ class DoubleCraterCycle:
     name = "crater-double"
     stages = ("load", "unload")
     columns = COLUMNS
+    #: False: the cycle ends at the preload (a probe of the loading path)
+    unloads = True
 
     def __init__(self, params: Params, comm, model_class: type[DoubleCrater] = DoubleCrater):
         self.params, self.comm, self.model_class = params, comm, model_class
@@ -173,13 +175,29 @@ class DoubleCraterCycle:
         self._leg(run, "load", 0.0, 0.0, settle=True)
         if params.seal == "rest":
             self._seal()
-        self._leg(run, "load", 0.0, params.preload)
+        self._load(run)
         self._shape("preload", params.preload)
+        if not self.unloads:
+            return
         if not self.sealed:
             self._seal()
         self._leg(run, "unload", params.preload, 0.0)
         self._shape("unloaded", 0.0)
         self._finish(run)
+
+    def _load(self, run) -> None:
+        self._leg(run, "load", 0.0, self.params.preload)
+
+    # -- hooks of a cycle with more terms (:mod:`bcfem.scenes.crater_double.membrane`) ------
+    def _more_terms(self) -> list:
+        """Terms besides the model's and the chambers' fluids."""
+        return []
+
+    def _set_platen(self, eps: float) -> None:
+        self.model.set_platen(eps)
+
+    def _accepted(self, eps: float) -> None:
+        """Called at every accepted state, after its row."""
 
     def _leg(self, run, stage: str, start: float, end: float, settle: bool = False) -> None:
         """From ``start`` to ``end`` with the chambers as they are; at a topology change, a
@@ -189,10 +207,10 @@ class DoubleCraterCycle:
         fresh = settle  # also after a merge, which pools the fluids: the state must be re-solved
         while True:
             kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
-            terms = model.terms(*self._fluids())
+            terms = model.terms(*self._fluids(), *self._more_terms())
             with run.stage(stage, model.ctx, terms, model.bcs, {"snes_type": "vinewtonrsls"}, **kwargs) as problem:
                 model.contact_bounds(problem)
-                path = LoadPath(problem, model.set_platen, stage, model.viscosity,
+                path = LoadPath(problem, self._set_platen, stage, model.viscosity,
                                 params.beta / model.geometry.r0**2, events=self.events,
                                 max_snaps=params.max_snaps, load_name="eps",
                                 waves=model.wave_check(problem, terms))
@@ -202,6 +220,7 @@ class DoubleCraterCycle:
                                             f"({'chambers merged' if self.topology else 'at rest'}): "
                                             f"{problem.failure}", start)
                     run.record(self.observe(stage, start))
+                    self._accepted(start)
                 path.start()
                 if not self.shapes:  # the walls are known to the self-contact once bound
                     self._shape("rest", start)
@@ -211,6 +230,7 @@ class DoubleCraterCycle:
                     if self._change():
                         return True
                     run.record(self.observe(stage, eps))
+                    self._accepted(eps)
                     before.update(path.mark(eps))
                     return False
 
@@ -224,6 +244,8 @@ class DoubleCraterCycle:
                     event = self._split(eps)
                 elif kind == "merge":
                     event = self._merge(eps)
+                elif kind == "bond":
+                    event = self._bond(eps)
                 else:
                     event = self._phase_change(eps, kind)
                 event = {"stage": stage, "kind": kind, "bracket": bracket, **event}
@@ -231,12 +253,13 @@ class DoubleCraterCycle:
                     run.results[kind] = run.results[kind] or event
                 # a split leaves the state as it is; a merge pools the fluids and a phase change
                 # swaps a chamber's law, so the state is solved again
-                fresh = kind != "split"
+                fresh = kind not in ("split", "bond")
                 self.topology.append(event)
                 progress(f"{stage}: {event['kind']} at eps = {eps:.6g}")
                 self._shape(event["kind"], eps)
                 if not fresh:
                     run.record(self.observe(stage, eps))
+                    self._accepted(eps)
                 start = eps
 
     def _finish(self, run) -> None:
