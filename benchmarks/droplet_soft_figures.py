@@ -10,6 +10,11 @@
 * ``fig5_6cd.png``: Fig. 5.6c-d, the displacement field μ u_r/γl and μ u_z/γl in the layer
   (ν = 1/2, r0/h = 2, μ r0/γs = 1, the case of Fig. 5.6a-b), contours on the reference section;
 * ``fig5_7.png``: linear (ν = 1/2) against neo-Hookean, R0/h = 2, γ/(μ R0) = 0.01, 0.2, 0.5;
+* ``fig5_8.png``: Fig. 5.8's systems at Table 5.1's parameters (no experimental profile is
+  given in numbers, so nothing is fitted): (a) EG 40 %/gel at E = 1.5, 3, 4.5 kPa and the
+  text's best fit 6 kPa, (b) water/PDMS at 16, 20, 24 kPa, ridge tips translated to the tip
+  as the dissertation does; (c) glycerol/gel at 4.5 kPa, R0 = 26.8 ... 225.5 um, and R0 such
+  that the deformed r0 is 26.8 um (the text's explanation of its mismatch at that radius);
 * ``fig5_9.png``: the four systems of Table 5.1: the neo-Hookean tip angles against Neumann's;
 * ``numbers.json``: every number quoted in ``docs/results.md``.
 """
@@ -34,6 +39,23 @@ TABLE_5_1 = {
     "glycerol/silicone gel": (4.5, 74.5, 50.0, 46.0, 31.0, 36.0, 90.0),
     "fluorinated oil/silicone gel": (4.5, 200.0, 23.0, 17.0, 28.0, 16.0, 40.0),
 }
+
+
+#: Fig. 5.8c-d: the glycerol drops' radii [um]
+GLYCEROL_RADII = (26.8, 74.5, 176.7, 225.5)
+
+
+def table_params(system: str, E: float | None = None, R0: float | None = None, **extra) -> dict:
+    """The droplet-soft parameters of a Table 5.1 system (E [kPa], R0 [um] overriding the
+    table's), μ = E/3 (incompressible), the rest cap at the printed φl, the mesh graded to the
+    smallest tension's length γ/μ."""
+    E0, R00, h, gl, gs, gls, angle = TABLE_5_1[system]
+    E, R0 = E or E0, R0 or R00
+    mu_r0 = E * 1e3 / 3 * R0 * 1e-6 * 1e3  # mu R0 in mN/m
+    tensions = {"gamma_l": gl / mu_r0, "gamma_s": gs / mu_r0, "gamma_ls": gls / mu_r0}
+    tip = min(tensions.values()) * 0.05
+    return {"model": "neo-hookean", "thickness": h / R0, "width": min(6.0, 1 + 40 * h / R0),
+            "size_contact": max(1e-4, min(2e-3, tip)), "load_step": 0.1, "cap_angle": angle, **tensions, **extra}
 
 
 def solve(**kwargs):
@@ -212,6 +234,60 @@ def fig5_7(plt, numbers):
     return fig
 
 
+def fig5_8(plt, numbers):
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    found: dict = {}
+    for ax, system, moduli in ((axes[0], "EG 40%/silicone gel", (1.5, 3.0, 4.5, 6.0)),
+                               (axes[1], "water/PDMS", (16.0, 20.0, 24.0))):
+        R0 = TABLE_5_1[system][1]
+        for k, E in enumerate(moduli):
+            profile, _, s = solve(**table_params(system, E=E))
+            _, r, z = columns(profile, "R_over_R0", "r", "z", lo=0.9, hi=1.1)
+            ax.plot((r - s["tip_r"]) * R0, (z - s["tip_z"]) * R0, f"C{k}-", label=f"E = {E:g} kPa")
+            found[f"{system}, E = {E:g} kPa"] = {
+                "ridge_height_um": s["ridge_height"] * R0, "tip_z_um": s["tip_z"] * R0,
+                "cusp_angle_deg": s["cusp_angle_deg"], "cusp_angle_chord_deg": s["cusp_angle_chord_deg"],
+                "cap_angle_deg": s["cap_angle_deg"], "neumann_residual": s["neumann_residual"]}
+        ax.set_xlim(-20, 20)
+        ax.set_ylim(-25, 5)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x' = r - r_tip [um]")
+        ax.set_ylabel("z' = z - z_tip [um]")
+        ax.set_title(f"{system}: ridge tips, translated to the tip", fontsize=9)
+        ax.legend(fontsize=7)
+    system = "glycerol/silicone gel"
+    ax = axes[2]
+    for k, R0 in enumerate(GLYCEROL_RADII):
+        profile, _, s = solve(**table_params(system, R0=R0))
+        _, r, z = columns(profile, "R_over_R0", "r", "z", hi=300 / R0)
+        ax.plot(r * R0, z * R0, f"C{k}-", label=f"R0 = {R0:g} um")
+        found[f"{system}, R0 = {R0:g} um"] = {
+            "r0_um": s["tip_r"] * R0, "ridge_height_um": s["ridge_height"] * R0, "cap_angle_deg": s["cap_angle_deg"],
+            "laplace_pressure_Pa": s["laplace_pressure"] * TABLE_5_1[system][3] / R0 * 1e3,
+            "centre_dip_um": float(z[0]) * R0, "cusp_angle_deg": s["cusp_angle_deg"]}
+    # the text's explanation of the 26.8 um mismatch: R0 such that the deformed r0 is 26.8 um
+    target, R0 = GLYCEROL_RADII[0], GLYCEROL_RADII[0]
+    for _ in range(3):  # r0/R0 changes slowly with R0: a fixed-point iteration
+        profile, _, s = solve(**table_params(system, R0=R0))
+        R0 = target / s["tip_r"]
+    profile, _, s = solve(**table_params(system, R0=R0))
+    _, r, z = columns(profile, "R_over_R0", "r", "z", hi=300 / R0)
+    ax.plot(r * R0, z * R0, "k--", lw=1, label=f"R0 = {R0:.2f} um (r0 = {s['tip_r'] * R0:.2f} um)")
+    found[f"{system}, r0 = {target:g} um"] = {
+        "R0_um": R0, "r0_um": s["tip_r"] * R0, "ridge_height_um": s["ridge_height"] * R0,
+        "laplace_pressure_Pa": s["laplace_pressure"] * TABLE_5_1[system][3] / R0 * 1e3,
+        "centre_dip_um": float(z[0]) * R0}
+    ax.set_xlim(0, 300)
+    ax.set_xlabel("r [um]")
+    ax.set_ylabel("z [um]")
+    ax.set_title("glycerol/silicone gel, E = 4.5 kPa (Fig. 5.8d)", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.suptitle("Fig. 5.8 at Table 5.1's parameters (neo-Hookean FE; the experimental images are not "
+                 "given in numbers)", fontsize=10)
+    numbers["fig5_8"] = found
+    return fig
+
+
 def fig5_9(plt, numbers):
     found = {}
     for name, (E, R0, h, gl, gs, gls, angle) in TABLE_5_1.items():
@@ -240,7 +316,7 @@ def fig5_9(plt, numbers):
 
 
 FIGURES = {"fig5_4": fig5_4, "fig5_5": fig5_5, "fig5_6": fig5_6, "fig5_6cd": fig5_6cd, "fig5_7": fig5_7,
-           "fig5_9": fig5_9}
+           "fig5_8": fig5_8, "fig5_9": fig5_9}
 
 
 def main(names=None) -> None:
