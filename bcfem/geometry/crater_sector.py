@@ -1,0 +1,79 @@
+"""A quarter of the cylindrical specimen with a hemispherical crater at the centre of its
+bottom face, in 3-D: the mirror faces x = 0 and y = 0 cut it, z is vertical, the plate is
+z = 0. Built with OpenCASCADE on rank 0; quadratic tetrahedra, refined towards the crater.
+
+Facets: BOTTOM (the flat face outside the crater), WALL (the crater), TOP, OUTER, MIRROR_X
+(x = 0), MIRROR_Y (y = 0). Units are those of the inputs (the crater scene's mm).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+BOTTOM, WALL, TOP, OUTER, MIRROR_X, MIRROR_Y = 11, 12, 13, 15, 16, 17
+
+
+@dataclass(frozen=True)
+class CraterSector:
+    """Dimensions (the experiment's, section 7.2.1, as :class:`bcfem.geometry.crater.CraterGeometry`)
+    and the element sizes on the wall and far from it, over the crater radius a."""
+
+    radius: float = 12.70
+    height: float = 35.13
+    crater_radius: float = 6.35
+    size_wall: float = 0.25
+    size_far: float = 0.6
+
+    def build_model(self) -> None:
+        import gmsh
+
+        occ = gmsh.model.occ
+        gmsh.model.add("crater_sector")
+        a = self.crater_radius
+        cylinder = occ.addCylinder(0, 0, 0, 0, 0, self.height, self.radius)
+        quarter = occ.addBox(0, 0, 0, 2 * self.radius, 2 * self.radius, self.height)
+        ball = occ.addSphere(0, 0, 0, a)
+        body, _ = occ.intersect([(3, cylinder)], [(3, quarter)])
+        body, _ = occ.cut(body, [(3, ball)])
+        occ.synchronize()
+        gmsh.model.addPhysicalGroup(3, [t for _, t in body], 1, name="specimen")
+        wall = []
+        for _, tag in gmsh.model.getEntities(2):
+            x, y, z = occ.getCenterOfMass(2, tag)
+            if abs(x) < 1e-9 * self.radius:
+                key = MIRROR_X
+            elif abs(y) < 1e-9 * self.radius:
+                key = MIRROR_Y
+            elif abs(z) < 1e-9 * self.height:
+                key = BOTTOM
+            elif abs(z - self.height) < 1e-9 * self.height:
+                key = TOP
+            elif abs(math.hypot(x, y, z) - a) < 0.5 * a:
+                key = WALL
+                wall.append(tag)
+            else:
+                key = OUTER
+            gmsh.model.addPhysicalGroup(2, [tag], key)
+        field = gmsh.model.mesh.field
+        distance = field.add("Distance")
+        field.setNumbers(distance, "SurfacesList", wall)
+        threshold = field.add("Threshold")
+        field.setNumber(threshold, "InField", distance)
+        field.setNumber(threshold, "SizeMin", self.size_wall * a)
+        field.setNumber(threshold, "SizeMax", self.size_far * a)
+        field.setNumber(threshold, "DistMin", 0.1 * a)
+        field.setNumber(threshold, "DistMax", 1.5 * a)
+        field.setAsBackgroundMesh(threshold)
+        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(2)
+
+
+def create_mesh(sector: CraterSector, comm):
+    """The sector's mesh, distributed over ``comm`` (dolfinx.io.gmsh.MeshData)."""
+    from bcfem.geometry.mesh import distribute
+
+    return distribute(sector.build_model, comm, gdim=3)
