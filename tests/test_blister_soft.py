@@ -154,13 +154,16 @@ def p_max(summary):
 @pytest.mark.slow
 @pytest.mark.serial
 def test_rigid_limit(tmp_path):
-    """At stiffness ratios 1e3 and 1e4 the pressure maximum (value, volume, aspect and contact
-    angle) approaches the clamped blister-rigid's, ten times closer at the ten times stiffer."""
+    """At stiffness ratios 1e4 and 1e5 the pressure maximum (value, volume, aspect and contact
+    angle) approaches the clamped blister-rigid's, ten times closer at the ten times stiffer.
+    (At 1e3 and 1e4 on the grading-only mesh the free membrane's mesh error, +3e-5, cancelled the
+    stiffness's, -3e-5, at 1e4; with the wetted top resolved the error is the stiffness's alone:
+    -2.9e-4, -3.1e-5, -2.9e-6 at 1e3, 1e4, 1e5.)"""
     rigid, _ = run(tmp_path, "rigid", "blister-rigid", "--material", "neo-hookean", "--alpha", "0.5",
                    "--v-max", "0.8")
     ref = p_max(rigid)
     errors = []
-    for ratio in (1e3, 1e4):
+    for ratio in (1e4, 1e5):
         soft, _ = run(tmp_path, f"soft{ratio:g}", "blister-soft", "--stiffness-ratio", ratio, "--v-max", "0.8")
         lp = p_max(soft)
         errors.append(abs(lp["P"] / ref["P"] - 1))
