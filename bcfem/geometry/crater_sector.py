@@ -28,6 +28,8 @@ class CraterSector:
     def build_model(self) -> None:
         import gmsh
 
+        from bcfem.geometry.mesh import graded_tetrahedra
+
         occ = gmsh.model.occ
         gmsh.model.add("crater_sector")
         a = self.crater_radius
@@ -55,21 +57,7 @@ class CraterSector:
             else:
                 key = OUTER
             gmsh.model.addPhysicalGroup(2, [tag], key)
-        field = gmsh.model.mesh.field
-        distance = field.add("Distance")
-        field.setNumbers(distance, "SurfacesList", wall)
-        threshold = field.add("Threshold")
-        field.setNumber(threshold, "InField", distance)
-        field.setNumber(threshold, "SizeMin", self.size_wall * a)
-        field.setNumber(threshold, "SizeMax", self.size_far * a)
-        field.setNumber(threshold, "DistMin", 0.1 * a)
-        field.setNumber(threshold, "DistMax", 1.5 * a)
-        field.setAsBackgroundMesh(threshold)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-        gmsh.model.mesh.generate(3)
-        gmsh.model.mesh.setOrder(2)
+        graded_tetrahedra(wall, self.size_wall * a, self.size_far * a, 0.1 * a, 1.5 * a)
 
 
 def create_mesh(sector: CraterSector, comm):

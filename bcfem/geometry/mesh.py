@@ -48,3 +48,25 @@ def distribute(build_model: Callable[[], None], comm, msh_file=None, gdim: int =
     if comm.rank == 0:
         gmsh.finalize()
     return data
+
+
+def graded_tetrahedra(surfaces: list[int], size_near: float, size_far: float, near: float, far: float) -> None:
+    """Mesh the current gmsh model with quadratic tetrahedra of size ``size_near`` within ``near`` of
+    the ``surfaces``, growing linearly to ``size_far`` at ``far`` from them and beyond (rank 0)."""
+    import gmsh
+
+    field = gmsh.model.mesh.field
+    distance = field.add("Distance")
+    field.setNumbers(distance, "SurfacesList", surfaces)
+    threshold = field.add("Threshold")
+    field.setNumber(threshold, "InField", distance)
+    field.setNumber(threshold, "SizeMin", size_near)
+    field.setNumber(threshold, "SizeMax", size_far)
+    field.setNumber(threshold, "DistMin", near)
+    field.setNumber(threshold, "DistMax", far)
+    field.setAsBackgroundMesh(threshold)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.model.mesh.generate(3)
+    gmsh.model.mesh.setOrder(2)

@@ -1,0 +1,29 @@
+"""Scene ``crater-cell``: the suction cycle of a lattice of craters, on its smallest mirror cell
+in 3-D (:mod:`bcfem.geometry.crater_cell`).
+
+``params`` (no dolfinx), ``model`` (mesh, lateral strains, terms, observables) and ``stages``
+(the cycle: ``load`` vented, ``unload`` sealed). The model loads the finite-element stack on
+first use, so the command line checks the parameters first.
+"""
+
+from __future__ import annotations
+
+from bcfem.scenes.crater_cell.params import COLUMNS, DESCRIPTION, SUMMARY, Params
+
+
+def build(params: Params, comm):
+    """The cell's cycle (meshed when solved), for :mod:`bcfem.runner`."""
+    from bcfem.scenes.crater_cell.stages import CellCycle
+
+    return CellCycle(params, comm)
+
+
+def solve(params: Params, comm) -> tuple[list[dict], dict]:
+    """One cycle in memory: (rows, summary); raises :class:`bcfem.runner.SolveError` if it cannot
+    be completed (the error's ``run`` holds the converged part)."""
+    from bcfem.runner import solve_rows
+
+    return solve_rows(build(params, comm), comm)
+
+
+__all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "Params", "build", "solve"]

@@ -1,0 +1,142 @@
+r"""The lattice cell's model: mesh, states, terms, boundary conditions and observables.
+
+The displacement is u = ũ + (e_x x, e_y y, 0) (the lift of :class:`bcfem.solid_3d.Solid3D`),
+with ũ held normal to every side face: each side face stays on its plane, the faces x = Lx
+and y = Ly move with the lateral macroscopic strains e_x, e_y (real-space states). Their
+residuals are the derivatives of the energy, the mean lateral tractions on the side faces: zero,
+so the array spreads freely under the platen (uniaxial stress on average). The platen is
+ũ_z = -eps H on the top face, the plate ũ_z = 0 on the bottom face (both frictionless). Each
+quarter crater is a cavity of its own (:class:`bcfem.cavity.Cavity`), sealed with its own fluid.
+Pressures in p_a (μ/p_a = β), lengths in mm.
+"""
+
+from __future__ import annotations
+
+import math
+
+from mpi4py import MPI
+
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from bcfem.bcs import component
+from bcfem.cavity import Cavity
+from bcfem.context import Context
+from bcfem.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.fluids import FLUIDS
+from bcfem.geometry.crater_cell import BOTTOM, MIRROR_X, MIRROR_Y, SIDE_X, SIDE_Y, TOP, WALL, create_mesh
+from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.mpi import global_sum, real_value
+from bcfem.relaxation import Viscosity
+from bcfem.scenes.crater_cell.params import Params
+from bcfem.solid_3d import Solid3D
+from bcfem.stepping import SteppingError
+
+#: the lateral strains' states, along x and y
+LATERAL = ("lateral_strain_x", "lateral_strain_y")
+
+
+class CellModel:
+    """The composed cell: mesh, states (ũ, the solid pressure, e_x, e_y and, once sealed, each
+    crater's fluid pressure), terms, boundary conditions and observables."""
+
+    def __init__(self, params: Params, comm):
+        self.params = params
+        self.cell = cell = params.geometry()
+        data = create_mesh(cell, comm)
+        msh, facets = data.mesh, data.facet_tags
+        self.mesh = msh
+        V = fem.functionspace(msh, ("Lagrange", 2, (3,)))
+        self.u = fem.Function(V, name="displacement")
+        self.ctx = ctx = Context(self.u)
+        strains = [ctx.real_state(name) for name in LATERAL]
+        x = ufl.SpatialCoordinate(msh)
+        ctx.kin = kin = Solid3D(self.u, quadrature_degree=4, facet_tags=facets,
+                                lift=ufl.as_vector([strains[0] * x[0], strains[1] * x[1], 0]))
+        self.platen = fem.Function(V.sub(2).collapse()[0], name="platen")
+        sides = {axis: np.concatenate([facets.find(tag) for tag in tags])
+                 for axis, tags in ((0, (MIRROR_X, SIDE_X)), (1, (MIRROR_Y, SIDE_Y)))}
+        self.bcs = [component(V, 0, sides[0]), component(V, 1, sides[1]), component(V, 2, facets.find(BOTTOM)),
+                    component(V, 2, facets.find(TOP), self.platen)]
+        beta, a = params.beta, cell.crater_radius
+        self.walls = tuple(WALL + k for k in range(len(cell.centres)))
+        self.solid = SolidStrain(NearlyIncompressibleNeoHookean(mu=beta, kappa=params.kappa_ratio * beta))
+        gamma = params.surface_energy * beta * a
+        self.surface = SolidSurfaceEnergy(gamma, self.walls, "crater_surface_energy") if gamma > 0 else None
+        self.viscosity = Viscosity(self.u)
+        self.energy_scale = max(1.0, beta)
+        self.cavities = [Cavity(wall) for wall in self.walls]
+        self._volumes = [fem.form(c.volume(kin)) for c in self.cavities]
+        # the projected opening: -∫ (cof F N)_z over the wall, the area its rim encloses on the plate
+        self._openings = [fem.form(-kin.surface_integral(kin.vertical_area(), wall)) for wall in self.walls]
+        self.pressure_names = tuple("fluid_pressure" if k == 0 else f"fluid_pressure_{k}"
+                                    for k in range(len(self.walls)))
+        self.sealed = False
+        wall_facets = np.concatenate([facets.find(wall) for wall in self.walls])
+        self._wall_nodes = fem.locate_dofs_topological(V, 2, wall_facets)
+        self._nodes = V.tabulate_dof_coordinates()
+        self.strain = 0.0
+        self._force = None
+        #: a whole crater's volume and opening at rest; the cell holds ``craters`` of them
+        self.V0, self.A0, self.craters = cell.crater_volume, math.pi * a**2, cell.craters
+
+    def terms(self, *fluids) -> list:
+        """The solid, the walls' surface energy (if any), the fluids and the relaxation's viscosity."""
+        return [self.solid, *([self.surface] if self.surface else []), *fluids, self.viscosity]
+
+    def set_platen(self, strain: float) -> None:
+        """The platen at eps = -dL/L."""
+        self.strain = strain
+        self.platen.x.array[:] = -strain * self.params.specimen_height
+
+    def measure_force(self, problem) -> None:
+        """The platen force of ``problem``'s states from now on: its Lagrangian differentiated in
+        w = (0, 0, Z/H), which moves the top face alone by 1 (< 0 pressing)."""
+        w = fem.Function(self.u.function_space)
+        H = self.params.specimen_height
+        w.interpolate(lambda x: np.vstack([0 * x[0], 0 * x[0], x[2] / H]))
+        self._force = fem.form(ufl.derivative(problem.lagrangian, self.u, w))
+
+    def platen_force(self) -> float:
+        """The platen's force on the cell, in p_a mm² (collective)."""
+        return global_sum(self._force)
+
+    def volumes(self) -> list[float]:
+        """Each quarter crater's current volume (collective)."""
+        return [global_sum(form) for form in self._volumes]
+
+    def seal(self) -> list:
+        """Each crater sealed at p_a with its current volume: the fluid terms."""
+        self.sealed = True
+        fluid = FLUIDS[self.params.fluid]
+        terms = [fluid(cavity, sealed_volume=V, pressure_name=name)
+                 for cavity, V, name in zip(self.cavities, self.volumes(), self.pressure_names)]
+        for name in self.pressure_names:
+            self.ctx.real_state(name).x.array[:] = 1.0
+        return terms
+
+    def pressures(self) -> list[float]:
+        if not self.sealed:
+            return [1.0] * len(self.walls)
+        return [real_value(self.ctx.states[name]) for name in self.pressure_names]
+
+    def lowest_wall_point(self) -> float:
+        """The least current height of the walls' nodes (collective)."""
+        z = self._nodes[self._wall_nodes, 2] + self.u.x.array.reshape(-1, 3)[self._wall_nodes, 2]
+        return self.mesh.comm.allreduce(float(z.min(initial=np.inf)), op=MPI.MIN)
+
+    def observe(self, stage: str, eps: float) -> dict:
+        """The row of the current state (collective); a wall through the plate stops the path."""
+        if self.lowest_wall_point() < -1e-6 * self.cell.crater_radius:
+            raise SteppingError(f"{stage}: the crater wall reached the plate at eps = {eps:.6g}; contact of the "
+                                "wall with the plate is not modelled in crater-cell yet (lower --preload)", eps)
+        V, A, p = self.volumes(), [global_sum(f) for f in self._openings], self.pressures()
+        quarters = len(self.walls)
+        suction = sum((1 - pk) * Ak for pk, Ak in zip(p, A))
+        return {"stage": stage, "eps": eps, "p_over_pa": p[0], "V_over_V0": 4 * sum(V) / (quarters * self.V0),
+                "A_over_A0": 4 * sum(A) / (quarters * self.A0), "F_tilde": suction / (self.craters * self.A0),
+                "F_tilde_area": suction / self.cell.area,
+                **{name: real_value(self.ctx.states[name]) for name in LATERAL},
+                "platen_force": self.platen_force() / (self.craters * self.A0),
+                "pressure_spread": max(p) - min(p)}

@@ -1,0 +1,140 @@
+"""crater-cell: the lattice's mirror cell holds its share of the array, spreads in uniaxial
+stress where the craters are sparse, equals the isolated crater in the sparse limit, is
+isotropic in the plane on a hexagonal lattice, and gives the serial cycle on 2 ranks."""
+
+import math
+
+from mpi4py import MPI
+
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from scipy.optimize import brentq
+
+from bcfem.geometry.crater_cell import BOTTOM, SIDE_X, SIDE_Y, TOP, WALL, CraterCell, create_mesh
+from bcfem.scenes import crater, crater_cell
+from tests.helpers import refused, same_loads
+
+#: a tiny square cell whose crater is sparse (F = 0.01) and small against the height
+SPARSE = dict(crater_radius=1.0, specimen_height=10.0, filling=0.01, size_wall=0.5, size_far=5.0,
+              preload=0.05, strain_step=0.05)
+
+
+@pytest.mark.parametrize(("argv", "name"), [
+    (("--filling", "0.72"), "--filling"),  # square close packing pi/4, less the ligament: 0.709
+    (("--lattice", "hexagonal", "--filling", "0.83"), "--filling"),  # pi/(2 sqrt 3) less it: 0.818
+    (("--filling", "0"), "--filling"),
+    (("--crater-radius", "10", "--specimen-height", "8"), "--specimen-height"),
+    (("--size-wall", "0.5", "--size-far", "0.3"), "--size-far"),
+])
+def test_bad_input_exits_2(tmp_path, argv, name):
+    assert name in refused("run", "crater-cell", *argv, out=tmp_path / "out")
+
+
+@pytest.mark.parametrize("lattice", ["square", "hexagonal"])
+def test_the_cell_is_the_lattice_share(lattice):
+    """The meshed cell is its rectangle less a quarter crater at each crater corner (volume and
+    wall area, to the quadratic geometry's error), and holds pi a^2 / F of plate per crater."""
+    cell = CraterCell(lattice=lattice, filling=0.3, crater_radius=1.0, height=3.0, size_wall=0.25, size_far=0.6)
+    data = create_mesh(cell, MPI.COMM_WORLD)
+    msh, tags = data.mesh, data.facet_tags
+    ds = ufl.Measure("ds", domain=msh, subdomain_data=tags)
+
+    def total(form):
+        return msh.comm.allreduce(fem.assemble_scalar(fem.form(form)), op=MPI.SUM)
+
+    Lx, Ly = cell.extent
+    quarters = len(cell.centres)
+    assert cell.area / cell.craters == pytest.approx(math.pi / cell.filling)
+    assert total(1.0 * ufl.dx(domain=msh)) == pytest.approx(Lx * Ly * cell.height - quarters * cell.crater_volume / 4,
+                                                            rel=1e-4)
+    for k in range(quarters):  # each wall a quarter hemisphere, 2 pi a^2 / 4
+        assert total(1.0 * ds(WALL + k)) == pytest.approx(math.pi / 2, rel=1e-3)
+    assert total(1.0 * ds(TOP)) == pytest.approx(Lx * Ly, rel=1e-12)
+    assert total(1.0 * ds(BOTTOM)) == pytest.approx(Lx * Ly - quarters * math.pi / 4, rel=1e-3)
+    assert total(1.0 * ds(SIDE_X)) + total(1.0 * ds(SIDE_Y)) == pytest.approx(
+        (Lx + Ly) * cell.height - (lattice == "hexagonal") * math.pi / 2, rel=1e-3)  # two quarter discs
+
+
+def uniaxial(stretch: float, kappa: float) -> tuple[float, float]:
+    """(lateral stretch, nominal stress over mu) of the uncratered solid in uniaxial stress:
+    W = (I1 - 3)/2 - ln J + p (J - 1) - p^2/(2 kappa), the lateral stress zero."""
+    def lateral_stress(s):
+        J = stretch * s * s
+        return s - 1 / s + kappa * (J - 1) * J / s
+
+    s = brentq(lateral_stress, 0.2, 3.0, xtol=1e-15)
+    J = stretch * s * s
+    return s, stretch - 1 / stretch + kappa * (J - 1) * J / stretch
+
+
+@pytest.mark.mpi
+def test_a_sparse_cell_spreads_in_uniaxial_stress():
+    """At a porosity phi (the crater's volume fraction) the cell is the uncratered solid in
+    uniaxial stress to O(phi): a dilute void in an incompressible solid (the frictionless plate
+    is a mirror plane, so the hemisphere is half a spherical void) lowers Young's modulus by
+    1.92 phi and the lateral strain by 0.75 phi (Eshelby's dilute estimates, nu* = 1/2 (1 - 3 phi/4)).
+    The sealed cycle then keeps Boyle's law and ends at zero platen force."""
+    params = crater_cell.Params(**SPARSE)
+    rows, summary = crater_cell.solve(params, MPI.COMM_WORLD)
+    cell = params.geometry()
+    phi = cell.craters * cell.crater_volume / (cell.area * cell.height)
+    loaded = next(r for r in rows if r["stage"] == "load" and r["eps"] == params.preload)
+    s, stress = uniaxial(1 - params.preload, params.kappa_ratio)
+    for e in (loaded["lateral_strain_x"], loaded["lateral_strain_y"]):
+        assert 0 < 1 - e / (s - 1) < 2 * phi
+    # the platen's force per reference area of the cell, over the closed form mu P(lambda)
+    nominal = loaded["platen_force"] * cell.craters * math.pi * params.crater_radius**2 / cell.area
+    assert 0 < 1 - nominal / (params.beta * stress) < 3 * phi
+    # sealed: p V2 = V1 for air; zero platen force at the end of the cycle, then eps = 0
+    assert summary["p2_over_pa"] * summary["V2_over_V0"] == pytest.approx(summary["V1_over_V0"], rel=1e-8)
+    zero = next(r for r in rows if r["eps"] == summary["eps_at_zero_force"])
+    assert abs(zero["platen_force"]) < 1e-9 * abs(loaded["platen_force"])
+    assert rows[-1]["eps"] == 0.0 and summary["F_tilde"] > 0
+    assert summary["F_tilde_area"] == pytest.approx(summary["F_tilde"] * params.filling, rel=1e-12)
+
+
+@pytest.mark.mpi
+def test_two_ranks_equal_serial():
+    if MPI.COMM_WORLD.size == 1:
+        pytest.skip("needs mpirun -n 2")
+    params = crater_cell.Params(**SPARSE)
+    rows, summary = crater_cell.solve(params, MPI.COMM_WORLD)
+    reference, reference_summary = crater_cell.solve(params, MPI.COMM_SELF)
+    for key in ("F_tilde", "p2_over_pa", "V2_over_V0", "A2_over_A0", "eps_at_zero_force"):
+        assert summary[key] == pytest.approx(reference_summary[key], rel=1e-8), key
+    pairs = same_loads(rows, reference, "eps")
+    assert len(pairs) >= 3
+    for row, ref in pairs:
+        for key in ("V_over_V0", "lateral_strain_x", "platen_force"):
+            assert row[key] == pytest.approx(ref[key], rel=1e-8, abs=1e-12), key
+
+
+@pytest.mark.slow
+def test_hexagonal_cell_is_isotropic_in_the_plane():
+    """A hexagonal lattice's response to the platen is isotropic in the plane (a six-fold axis):
+    e_x = e_y, and its two quarter craters, one crater of the lattice twice, keep one pressure;
+    both to the discretisation error of their differently meshed corners."""
+    params = crater_cell.Params(lattice="hexagonal", filling=0.3, size_wall=0.5, size_far=1.5, preload=0.05,
+                                strain_step=0.05)
+    rows, summary = crater_cell.solve(params, MPI.COMM_WORLD)
+    for r in rows:
+        assert r["lateral_strain_x"] == pytest.approx(r["lateral_strain_y"], rel=1e-3, abs=1e-5)
+    assert summary["pressure_spread"] < 1e-3 * (1 - summary["p2_over_pa"])
+
+
+@pytest.mark.slow
+def test_sparse_limit_is_the_isolated_crater():
+    """A square lattice at d = 8a (F = pi/64) against the isolated crater on a specimen of the same
+    height and of the cell's area (R = d / sqrt(pi)), at preload 0.1: F_tilde within 2 %."""
+    filling = math.pi / 64
+    params = crater_cell.Params(filling=filling, preload=0.1)
+    _, summary = crater_cell.solve(params, MPI.COMM_WORLD)
+    radius = params.geometry().spacing / math.sqrt(math.pi)
+    _, isolated = crater.solve(crater.Params(preload=0.1, surface_energy=0.0, self_contact=0.0,
+                                             specimen_radius=radius), MPI.COMM_WORLD)
+    print("F_tilde cell, isolated:", summary["F_tilde"], isolated["F_tilde"])
+    assert summary["F_tilde"] == pytest.approx(isolated["F_tilde"], rel=0.02)
+    assert summary["A2_over_A0"] == pytest.approx(isolated["A2_over_A0"], rel=2e-3)
+    assert np.isclose(summary["V1_over_V0"], isolated["V1_over_V0"], rtol=1e-3)
