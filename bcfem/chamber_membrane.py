@@ -104,14 +104,14 @@ class ChamberMembrane:
         self.attach(problem.ctx.u)
         self.scale, self.ctx = problem.inverse_scale, problem.ctx
         index, fixed = problem.global_indices("displacement"), problem.constrained("displacement")
-        found = np.full(4, -1, dtype=np.int64)
-        free = np.zeros(4, dtype=np.int64)
+        # each node is owned by one rank: the others add zeros
+        found, free = np.zeros(4, dtype=np.int64), np.zeros(4, dtype=np.int64)
         for i, k in enumerate(self.blocks):
             if k is not None:
                 found[2 * i:2 * i + 2] = index[2 * k:2 * k + 2]
                 free[2 * i:2 * i + 2] = ~fixed[2 * k:2 * k + 2]
-        self.rows = self.comm.allreduce(found, op=MPI.MAX)
-        self.free = self.comm.allreduce(free, op=MPI.MAX).astype(bool)
+        self.rows = self.comm.allreduce(found, op=MPI.SUM)
+        self.free = self.comm.allreduce(free, op=MPI.SUM).astype(bool)
         self.pressure_rows = None
         if self.pressures:
             self.pressure_rows = np.array([self.comm.allreduce(int(problem.global_indices(n).max(initial=-1)),
