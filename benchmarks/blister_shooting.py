@@ -1,7 +1,7 @@
-"""Whole-process wall time of ``bcfem run blister-rigid`` against a scipy shooting code (issue #26).
+"""Whole-process wall time of ``bcfem run blister-rigid`` against a scipy shooting code.
 
 The case: the clamped, incompressible neo-Hookean membrane blister (alpha = 0), whose pressure
-P = dp R0/(mu t0) has a maximum P_max near V/V0 = 0.668 (V0 = 4/3 pi R0^3). The issue asks that
+P = dp R0/(mu t0) has a maximum P_max near V/V0 = 0.668 (V0 = 4/3 pi R0^3). The target:
 
     bcfem run blister-rigid --material neo-hookean --alpha 0 --v-max 1
 
@@ -583,7 +583,7 @@ def write_figure(rows, ref_P, floor: float, path: Path) -> None:
         for r in sh:
             ax.annotate(f"{r['rtol']:.0e}", (r[key], r["err"]), fontsize=6, xytext=(-22, 3), textcoords="offset points")
         ax.loglog([RATIO_TARGET * t for t in frontier(rows, "shooting", key, errors)], errors, ":", color="tab:green",
-                  lw=1.8, label=f"{RATIO_TARGET} x the shooting time at equal error: the issue's target (bcfem left of it)")
+                  lw=1.8, label=f"{RATIO_TARGET} x the shooting time at equal error: the target (bcfem left of it)")
         for degree, colour in colours.items():
             for plots, style in ((False, "o-"), (True, "s--")):
                 rs = [r for r in rows if r["method"] == "bcfem" and r["degree"] == degree and r["plots"] == plots]
@@ -623,7 +623,7 @@ def markdown(rows, info, args) -> str:
          "jobs; load average (1, 5, 15 min) "
          f"{info['load'][0]} at the start, {info['load'][1]} at the end), {info['git']}, "
          f"python {sys.version.split()[0]}, scipy {info['scipy']}, numpy {info['numpy']}.", "",
-         f"Issue #26: `bcfem run {' '.join(SCENE_ARGS)}` as a whole process must take at most {RATIO_TARGET} x "
+         f"The target: `bcfem run {' '.join(SCENE_ARGS)}` as a whole process must take at most {RATIO_TARGET} x "
          "the time of a scipy shooting code at equal error in the pressure maximum P_max "
          "(P = dp R0/(mu t0), V0 = 4/3 pi R0^3).", "",
          "## How it is measured", "",
@@ -713,7 +713,7 @@ def markdown(rows, info, args) -> str:
           f"(largest spread {spread:.1e}).", "",
           "## At equal error", "",
           f"The fastest run of each method whose error in P_max is at most the target; ratio = bcfem / shooting "
-          f"(the issue's target: <= {RATIO_TARGET}).", "",
+          f"(the target: <= {RATIO_TARGET}).", "",
           "| error <= | shooting (its error) | wall [s] | bcfem --no-plots (its error) | wall [s] | **ratio** "
           "| bcfem with plots | wall [s] | ratio | CPU-time ratio (--no-plots) | ratio of median times (--no-plots) |",
           "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -731,7 +731,7 @@ def markdown(rows, info, args) -> str:
              f"does NOT hold: at equal error bcfem takes {min(ratios):.2f}-{max(ratios):.2f} x the shooting "
              f"code's wall time (the target holds at {held} of {len(ratios)} levels).**"),
           "", f"The default command (P2/{DEFAULT[0]}, error {d['err']:.0e}) takes {d['wall']:.2f} s with --no-plots "
-          f"and {find(bc, *DEFAULT, True)['wall']:.2f} s with plots (the issue's command as written draws them).", "",
+          f"and {find(bc, *DEFAULT, True)['wall']:.2f} s with plots (the command as written draws them).", "",
           f"How sure: every best run's CPU time is within {max(1 - r['cpu'] / r['wall'] for r in rows):.1%} of its "
           "wall time, so none of them waited for the core inside this machine. The repeats of a case still spread "
           f"(the median up to {spread_t:.0%} above the best): "
@@ -831,7 +831,7 @@ def what_it_would_take(info, ib, t_pass) -> list[str]:
           "steps and iterations up to the fold and cheaper calls are what would count.",
           f"* **Exit**: {ph['rest']:.3f} s of MPI/PETSc finalisation and interpreter teardown after the output "
           "is written.",
-          "* **Plots**: the issue's command as written draws pv.png, which loads matplotlib "
+          "* **Plots**: the command as written draws pv.png, which loads matplotlib "
           f"({info['imports']['bcfem +plots']['matplotlib (and PIL)']:.3f} s of imports) on top.", "",
           "Meeting the target would take both a process that does not pay the start-up (or an upstream import "
           "several times lighter) and a several-fold cheaper solve. The shooting code's own time is mostly start-up "

@@ -1,4 +1,4 @@
-"""The hemisphere's equilibrium diagram (issue 25): the fundamental branch against the
+"""The hemisphere's equilibrium diagram: the fundamental branch against the
 stable path, docs/figures/crater_paths/{paths.csv,end_states.csv,equilibrium_diagram.png}.
 
 Default crater (alpha = 1, beta = 0.467, air, gamma/(mu a) = 0.01, default mesh):

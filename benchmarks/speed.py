@@ -1,4 +1,4 @@
-"""Before and after, in one run: the crater cycles and the blister of issue #26.
+"""Before and after, in one run: the crater cycles and the blister, at two commits.
 
 Each case runs as a whole ``bcfem run`` process pinned to one core (one BLAS thread), with
 the code of two commits: ``--before`` (checked out into a temporary git worktree) and the
@@ -38,7 +38,7 @@ from pathlib import Path
 
 from common import ROOT, atomic_text, busy_cores, csv_text, loadavg, save_figure
 
-#: the commit before issue #26's solver changes
+#: the default commit to compare with (``--before``)
 BEFORE = "14f700f"
 OUT = ROOT / "docs" / "benchmarks"
 BCFEM = ROOT / ".venv" / "bin" / "bcfem"
@@ -270,7 +270,7 @@ def main(argv=None) -> None:
     figure(rows, OUT / "speed.png")
     cpu = next((ln.split(":", 1)[1].strip() for ln in Path("/proc/cpuinfo").read_text().splitlines()
                 if ln.startswith("model name")), platform.processor()) if Path("/proc/cpuinfo").exists() else "?"
-    L = ["# Benchmark: before and after the solver changes of issue #26", "",
+    L = ["# Benchmark: the solver at two commits", "",
          f"Regenerate with `.venv/bin/python benchmarks/speed.py --repeats {args.repeats}` (part of `make bench`). "
          f"Measured on `{cpu}` ({os.cpu_count()} cores; {busy:.2f} cores busy with other work at the start, "
          f"load average {info['load_start']}), before = {args.before}, after = {head} (working tree).", "",

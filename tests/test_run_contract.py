@@ -1,4 +1,4 @@
-"""The run-time contract of ``bcfem run|sweep|fit`` (issue 38): a signal leaves ``status:
+"""The run-time contract of ``bcfem run|sweep|fit``: a signal leaves ``status:
 interrupted`` and what converged; ``--out`` is locked and cleared of an earlier run's files
 only; every JSON file is strict; a failure, also an internal one, is a status and an exit code,
 never a traceback."""
