@@ -55,6 +55,7 @@ def test_maximum_converges_at_a_high_rate():
     assert min(rates) > 2.5
 
 
+@pytest.mark.slow
 def test_ellipse_inflates_to_a_rounder_dome():
     """An ellipse of aspect 2: its apex stays on the centre and its branch has a maximum above
     the circle's (the short axis curves more at the same volume)."""
@@ -77,6 +78,7 @@ def test_long_rectangle_is_the_plane_strain_bulge():
     assert foppl_constant(8, 0.06) == pytest.approx(16 / 3, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_square_bulge_is_vlassak_and_nix():
     """A square of half-side a: p = (0.8 + 0.062 nu)^-3 E t h^3 / ((1 - nu) a^4) (Vlassak and Nix
     1992, an energy approximation quoted to about 1 %): 10.456 mu t h^3 / a^4 at nu = 1/2."""
@@ -84,6 +86,7 @@ def test_square_bulge_is_vlassak_and_nix():
     assert foppl_constant(1, 0.1) == pytest.approx(vlassak_nix, rel=1e-2)
 
 
+@pytest.mark.slow
 def test_relaxed_circle_is_taut():
     """An inflated circle is in tension everywhere: the tension-field relaxation changes nothing."""
     taut = limit_points(size=0.4, v_max=1.0)["max"]
@@ -92,6 +95,7 @@ def test_relaxed_circle_is_taut():
     assert relaxed["P"] == pytest.approx(taut["P"], rel=1e-12)
 
 
+@pytest.mark.slow
 def test_rectangle_wrinkles_at_its_corners():
     """A clamped rectangle of aspect 4 before its maximum: the taut membrane's minor tension
     is negative only at the corners (sampled on a grid of the quarter), where the relaxed
@@ -134,6 +138,7 @@ def test_a_bad_vertex_file_exits_2(tmp_path):
                                    out=tmp_path / "out")
 
 
+@pytest.mark.slow
 @pytest.mark.mpi
 @pytest.mark.serial
 def test_two_ranks_equal_serial(tmp_path):
