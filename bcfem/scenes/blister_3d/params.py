@@ -39,7 +39,8 @@ theory): where it would, it wrinkles along its major principal direction and
 contracts freely across it. The VTX file holds 'measures' (lambda_1, lambda_2,
 N2) and 'tension_direction' (the unit major principal direction, the wrinkles'
 crests where N2 < 0).
-Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/fields.bp (VTX: the
+Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/membrane.png (the last
+state rendered, coloured by the major stretch), DIR/fields.bp (VTX: the
 displacement on the reference outline; warp by it in ParaView)."""
 COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "N2_min",
            "wrinkled_fraction", "s"]
