@@ -84,6 +84,7 @@ def test_one_sealed_cavity_obeys_boyle_before_the_split(plate):
 
 
 @pytest.mark.mpi
+@pytest.mark.slow
 @pytest.mark.parametrize("plate", ["frictionless", "sticking"])
 def test_a_bottom_face_in_contact_keeps_boyle_and_its_slip(plate):
     """With the bottom face in contact (the gap under a lifted rim part of the cavity), the
