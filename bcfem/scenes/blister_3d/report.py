@@ -24,8 +24,12 @@ def gather_surface(u, measures, comm):
     return parts if comm.rank == 0 else None
 
 
-def membrane_figure(parts, title: str):
-    """A matplotlib figure of the gathered surface (rank 0)."""
+#: what :func:`membrane_figure` can colour by: the columns of the 'measures' field
+MEASURES = {"major stretch": 0, "minor stretch": 1, "taut minor tension (< 0: wrinkled)": 2}
+
+
+def membrane_figure(parts, title: str, colour: str = "major stretch"):
+    """A matplotlib figure of the gathered surface (rank 0), coloured by one of :data:`MEASURES`."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import matplotlib.pyplot as plt
     import pyvista
@@ -33,12 +37,11 @@ def membrane_figure(parts, title: str):
     grids = []
     for topology, cell_types, points, values in parts:
         grid = pyvista.UnstructuredGrid(topology, cell_types, points)
-        grid.point_data["major stretch"] = values[:, 0]
+        grid.point_data[colour] = values[:, MEASURES[colour]]
         grids.append(grid)
     surface = grids[0].merge(grids[1:]) if len(grids) > 1 else grids[0]
     plotter = pyvista.Plotter(off_screen=True, window_size=(1000, 700))
-    plotter.add_mesh(surface, scalars="major stretch", cmap="viridis", show_edges=False,
-                     scalar_bar_args={"title": "major principal stretch"})
+    plotter.add_mesh(surface, scalars=colour, cmap="viridis", show_edges=False, scalar_bar_args={"title": colour})
     plotter.view_isometric()
     plotter.set_background("white")
     image = plotter.screenshot(return_img=True)
