@@ -32,6 +32,7 @@ from petsc4py import PETSc
 import numpy as np
 
 from bcfem.mpi import real_value
+from bcfem.protocols import DiscreteTerm
 
 #: the Hessian of Q = 2 r_b z_b + r_b z_w + r_w z_b + 2 r_w z_w in (r_b, z_b, r_w, z_w)
 _HQ = np.array([[0, 2, 0, 1], [2, 0, 1, 0], [0, 1, 0, 2], [1, 0, 2, 0]], dtype=float)
@@ -67,7 +68,7 @@ def ring_membrane(x: np.ndarray, X: np.ndarray, stiffness: float) -> tuple[float
     return energy, grad, hess
 
 
-class ChamberMembrane:
+class ChamberMembrane(DiscreteTerm):
     """The membrane between a protuberance node and a sidewall node (a
     :class:`bcfem.protocols.DiscreteTerm`).
 
@@ -78,7 +79,6 @@ class ChamberMembrane:
         tolerance: how far from a given point its mesh node may lie.
     """
 
-    is_discrete = True
     symmetric_tangent = True  # the Hessian of Π in (x, p)
     name = "chamber_membrane"
 

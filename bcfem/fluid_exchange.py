@@ -27,16 +27,16 @@ from petsc4py import PETSc
 import numpy as np
 
 from bcfem.mpi import real_value
+from bcfem.protocols import DiscreteTerm
 
 
-class FluidExchange:
+class FluidExchange(DiscreteTerm):
     """Backward-Euler exchange between the chambers ``pressures`` = (p1, p2) (a DiscreteTerm).
 
     Attributes:
         conductance: c = Δt / C_V of the step being solved (set by the stage before each solve).
     """
 
-    is_discrete = True
     symmetric_tangent = False
     name = "fluid_exchange"
 

@@ -51,6 +51,7 @@ from dolfinx import default_scalar_type, fem
 from dolfinx.fem.petsc import assemble_matrix, create_matrix
 
 from bcfem.mpi import global_dofs
+from bcfem.protocols import DiscreteTerm
 from bcfem.stability import Inertia
 
 
@@ -153,7 +154,7 @@ class ModeAnalysis:
 
     def __init__(self, ctx, terms, bcs, prefix: str = "bcfem_modes_"):
         self.ctx = ctx
-        self.terms = [t for t in terms if not getattr(t, "is_discrete", False)]
+        self.terms = [t for t in terms if not isinstance(t, DiscreteTerm)]
         self.prefix = prefix
         self.n = fem.Constant(ctx.mesh, default_scalar_type(2.0))
         self._forms = {}  # n = 1 (with the translation multiplier) and n >= 2

@@ -22,7 +22,7 @@ from bcfem import interrupt, options, petsc_events
 from bcfem.algebra import ConvergedAlgebra
 from bcfem.assembly import Assembly
 from bcfem.newton_cycles import RepeatedIterates
-from bcfem.protocols import declared_multipliers
+from bcfem.protocols import DiscreteTerm, declared_multipliers
 from bcfem.reduced_lu import ReducedLU
 
 #: the parts of :attr:`Problem.timings`
@@ -59,8 +59,8 @@ class Problem(ConvergedAlgebra):
                  line_search_fallbacks: tuple[str, ...] = ()):
         self.ctx = ctx
         self.terms = list(terms)
-        self.discrete = [t for t in self.terms if getattr(t, "is_discrete", False)]
-        self.lagrangian = sum(t.energy(ctx) for t in self.terms if not getattr(t, "is_discrete", False))
+        self.discrete = [t for t in self.terms if isinstance(t, DiscreteTerm)]
+        self.lagrangian = sum(t.energy(ctx) for t in self.terms if not isinstance(t, DiscreteTerm))
         rows = rows or {}
         # a Constant, so that a new scale does not mean a new compiled form
         inverse_scale = fem.Constant(ctx.mesh, 1.0 / energy_scale)
@@ -76,8 +76,7 @@ class Problem(ConvergedAlgebra):
         self.multipliers = declared_multipliers(self.terms, self.names, rows)
         #: the tangent is symmetric: it is the Hessian of the Lagrangian (no row replaced, and
         #: every discrete term declares ``symmetric_tangent``), so LDL^T may factorise it
-        self.symmetric_tangent = not rows and all(getattr(t, "symmetric_tangent", False)
-                                                  for t in self.discrete)
+        self.symmetric_tangent = not rows and all(t.symmetric_tangent for t in self.discrete)
         scaled = inverse_scale * self.lagrangian
         residuals = [(rows[n] if isinstance(rows[n], ufl.Form) else rows[n](scaled)) if n in rows else
                      ufl.derivative(scaled, s, ufl.TestFunction(s.function_space))
@@ -153,7 +152,7 @@ class Problem(ConvergedAlgebra):
         """Shorten every Newton step to what the discrete terms with a ``step_bound(x, y)``
         allow (e.g. a wall that must not pass through itself), before the line search.
         Off by default: it changes the path wherever a full step would have been taken."""
-        bounded = [t for t in self.discrete if hasattr(t, "step_bound")]
+        bounded = [t for t in self.discrete if t.bounds_steps()]
         if not bounded:
             return
 
@@ -241,7 +240,7 @@ class Problem(ConvergedAlgebra):
             assign(x, self.states)
             # an equilibrium can still be unphysical (a wall through itself): the terms that
             # know their geometry may veto it, and the solve fails like any other
-            self.inadmissible = next((message for term in self.discrete if hasattr(term, "inadmissible")
+            self.inadmissible = next((message for term in self.discrete
                                       for message in [term.inadmissible()] if message), None)
             ok = self.inadmissible is None
             if not ok:
@@ -264,8 +263,7 @@ class Problem(ConvergedAlgebra):
     def _snes_solve(self, x: PETSc.Vec) -> None:
         self._first_norm = None
         for term in self.discrete:
-            if hasattr(term, "begin_solve"):
-                term.begin_solve()
+            term.begin_solve()
         t0 = perf_counter()
         assembled = self.timings["assembly"] + self.timings["discrete_terms"]
         solver = petsc_events.seconds()

@@ -4,9 +4,9 @@ A model is a list of terms. Most are :class:`Term` s: a scalar UFL energy that
 :class:`bcfem.problem.Problem` sums and differentiates. A few effects are not
 one form (self-contact couples boundary nodes far apart in the mesh): they are
 :class:`DiscreteTerm` s, which add their residual and tangent to the assembled
-system. Both are structural (``typing.Protocol``): a term conforms by having
-the members, not by inheriting from these classes. A member that a protocol
-gives a default for may be left out; the problem then uses that default.
+system. A :class:`Term` is structural (``typing.Protocol``): it conforms by having
+the members. A discrete term inherits from :class:`DiscreteTerm`, whose hooks default
+to doing nothing.
 """
 
 from __future__ import annotations
@@ -75,43 +75,37 @@ class Term(Protocol):
         ...
 
 
-@runtime_checkable
-class DiscreteTerm(Protocol):
+class DiscreteTerm:
     """An effect that is not one UFL form: it adds its residual and tangent to the
-    system the problem assembles from the forms. It is marked ``is_discrete = True``
-    and has no ``energy``.
+    system the problem assembles from the forms. Discrete terms inherit from this base,
+    which the problem recognises (``isinstance``) and whose hooks default to doing nothing:
+    a subclass implements :meth:`bind`, :meth:`add_residual` and :meth:`add_jacobian`, and
+    overrides a hook only where it needs one."""
 
-    The hooks :meth:`begin_solve`, :meth:`inadmissible` and :meth:`step_bound` are
-    optional: a term without one behaves as the default documented here."""
-
-    @property
-    def is_discrete(self) -> bool:
-        """True: tells the problem not to ask for an energy."""
-        ...
+    #: the term adds no energy form
+    is_discrete = True
+    #: True when :meth:`add_jacobian` adds a symmetric matrix (the Hessian of an energy), so
+    #: that the problem may factorise its tangent as LDL^T
+    symmetric_tangent = False
+    multipliers: tuple[str, ...] = ()
 
     def bind(self, problem: Problem) -> None:
         """Set up once, when ``problem`` is built (after its forms): find the term's
         unknowns (``problem.global_indices``, ``problem.constrained``), keep
         ``problem.inverse_scale`` to scale like the forms, and call
         ``problem.allow_new_nonzeros()`` if it adds entries outside their sparsity."""
-        ...
+        raise NotImplementedError
 
     def add_residual(self, b: PETSc.Vec) -> None:
         """Add the term's residual (scaled by ``problem.inverse_scale``) to the
         assembled residual ``b``, at the states the problem's functions hold. Rows
         of Dirichlet dofs hold their own equation and get nothing. Collective."""
-        ...
+        raise NotImplementedError
 
     def add_jacobian(self, A: PETSc.Mat) -> None:
         """Add the derivative of :meth:`add_residual` to the assembled tangent ``A``
         (free rows and columns only), and assemble ``A``. Collective."""
-        ...
-
-    @property
-    def symmetric_tangent(self) -> bool:
-        """True when :meth:`add_jacobian` adds a symmetric matrix (the Hessian of an energy),
-        so that the problem may factorise its tangent as LDL^T. Default: False."""
-        return False
+        raise NotImplementedError
 
     def tangent_key(self) -> tuple | None:
         """Arrays that, with the states, determine what :meth:`add_jacobian` adds (e.g. a
@@ -134,6 +128,11 @@ class DiscreteTerm(Protocol):
         that keeps the state admissible; used once ``problem.bound_steps()`` is
         called. Default: 1, no bound."""
         return 1.0
+
+    @classmethod
+    def bounds_steps(cls) -> bool:
+        """Whether the class overrides :meth:`step_bound` (the problem then asks it)."""
+        return cls.step_bound is not DiscreteTerm.step_bound
 
 
 T = TypeVar("T")

@@ -51,6 +51,7 @@ from dolfinx import fem
 from bcfem.contact_search import overlapping_boxes, points_in_boxes
 from bcfem.gap import ROTATION, gap, gap_derivatives, gap_derivatives_batch
 from bcfem.params import require
+from bcfem.protocols import DiscreteTerm
 
 __all__ = ["WallSelfContact", "gap", "gap_derivatives"]
 
@@ -63,7 +64,7 @@ def _padded(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return lo - pad, hi + pad
 
 
-class WallSelfContact:
+class WallSelfContact(DiscreteTerm):
     """Penalty self-contact of the boundary part ``boundary`` (a facet tag): a
     :class:`bcfem.protocols.DiscreteTerm` with every hook.
 
@@ -75,7 +76,6 @@ class WallSelfContact:
         depth: the deepest penetration taken for contact, in segment lengths.
     """
 
-    is_discrete = True
     symmetric_tangent = True  # the Hessian of the penalty energy
     name = "self_contact"
     #: (node, segment) pairs held together whatever the gap's sign (:meth:`bond`)

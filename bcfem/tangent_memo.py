@@ -18,8 +18,8 @@ from ufl.algorithms.analysis import extract_coefficients, extract_constants
 class TangentMemo:
     """What the last assembly of a Jacobian matrix saw: the iterate, the values of the forms'
     other coefficients and constants (a viscosity, a previous state, a fluid's amount) and the
-    discrete terms' ``tangent_key()``. A discrete term without that member (or returning
-    None) makes every assembly anew.
+    discrete terms' ``tangent_key()``. A discrete term whose key is None (the default) makes
+    every assembly anew.
 
     Args:
         forms: the UFL residual forms, whose coefficients and constants the Jacobian reads.
@@ -46,7 +46,7 @@ class TangentMemo:
         self.reused = 0
 
     def _now(self, x: PETSc.Vec):
-        keys = [getattr(t, "tangent_key", lambda: None)() for t in self._discrete]
+        keys = [t.tangent_key() for t in self._discrete]
         if any(k is None for k in keys):
             return None
         return ([x.array_r.copy()] + [c.x.array.copy() for c in self._coefficients]

@@ -17,6 +17,7 @@ from dolfinx.fem.petsc import NonlinearProblem
 
 from bcfem import Context
 from bcfem.problem import Problem
+from bcfem.protocols import DiscreteTerm
 
 pytestmark = pytest.mark.mpi
 
@@ -68,11 +69,9 @@ class Obstacle:
         return (0.5 * (ctx.u - (x[0] - 0.5)) ** 2 + 0.5 * ctx.u**4) * dx
 
 
-class Silent:
+class Silent(DiscreteTerm):
     """A discrete term that adds nothing to the residual and the tangent (and declares neither
     a symmetric tangent nor a tangent key)."""
-
-    is_discrete = True
 
     def bind(self, problem):
         pass
