@@ -144,3 +144,19 @@ def test_sparse_limit_is_the_isolated_crater():
     assert summary["F_tilde"] == pytest.approx(wide["F_tilde"], rel=5e-3)
     assert summary["A2_over_A0"] == pytest.approx(wide["A2_over_A0"], rel=1e-3)
     assert np.isclose(summary["V1_over_V0"], wide["V1_over_V0"], rtol=1e-3)
+
+
+@pytest.mark.slow
+def test_walls_rest_on_the_plate():
+    """A shallow crater (alpha = 0.4) pressed to 0.3 folds its roof onto the plate: the
+    variational inequality keeps every wall node on or above it, the fluid then wets the wall
+    off the plate only (A2 below the rim's projected area), and the sealed air keeps Boyle's law."""
+    from bcfem.runner import solve
+
+    params = crater_cell.Params(filling=0.3, alpha=0.4, preload=0.3, strain_step=0.05)
+    scene = crater_cell.build(params, MPI.COMM_WORLD)
+    run, summary = solve(scene, MPI.COMM_WORLD)
+    preloaded = next(r for r in run.rows if r["stage"] == "load" and r["eps"] == params.preload)
+    assert preloaded["wall_on_plate"] > 0 and preloaded["A_over_A0"] < 1
+    assert scene.model.lowest_wall_point() >= -1e-9 * params.crater_radius
+    assert summary["p2_over_pa"] * summary["V2_over_V0"] == pytest.approx(summary["V1_over_V0"], rel=1e-8)

@@ -36,7 +36,8 @@ def close_packing(lattice: str) -> float:
 @dataclass(frozen=True)
 class CraterCell:
     """A lattice cell: the lattice, filling factor F, crater base radius a and aspect α = b/a,
-    specimen height H, and element sizes on the walls and far from them, over a."""
+    specimen height H, and element sizes on the walls, at their rims (where the wall meets the
+    plate at an angle: the strains concentrate there) and far from them, over a."""
 
     lattice: str = "square"
     filling: float = 0.1
@@ -44,6 +45,7 @@ class CraterCell:
     alpha: float = 1.0
     height: float = 35.13
     size_wall: float = 0.3
+    size_rim: float = 0.1
     size_far: float = 0.8
 
     def __post_init__(self):
@@ -95,7 +97,8 @@ class CraterCell:
         a = self.crater_radius
         far = self.area * self.height / (self.size_far * a) ** 3 * 6
         walls = len(self.centres) * math.pi * a**2 / (self.size_wall * a) ** 2 * 8
-        return far + walls
+        rims = len(self.centres) * (self.size_wall / self.size_rim) ** 2 * 70
+        return far + walls + rims
 
     def build_model(self) -> None:
         import gmsh
@@ -124,7 +127,10 @@ class CraterCell:
                 key = WALL + k
                 walls.append(tag)
             gmsh.model.addPhysicalGroup(2, [tag], key)
-        graded_tetrahedra(walls, self.size_wall * a, self.size_far * a, 0.1 * a, 1.5 * a)
+        rims = {abs(tag) for wall in walls for _, tag in gmsh.model.getBoundary([(2, wall)], oriented=False)
+                if abs(occ.getCenterOfMass(1, abs(tag))[2]) < tol}
+        graded_tetrahedra(walls, self.size_wall * a, self.size_far * a, 0.1 * a, 1.5 * a,
+                          curves=sorted(rims), size_curves=min(self.size_rim, self.size_wall) * a)
 
 
 def create_mesh(cell: CraterCell, comm):

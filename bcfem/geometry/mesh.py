@@ -50,21 +50,34 @@ def distribute(build_model: Callable[[], None], comm, msh_file=None, gdim: int =
     return data
 
 
-def graded_tetrahedra(surfaces: list[int], size_near: float, size_far: float, near: float, far: float) -> None:
+def graded_tetrahedra(surfaces: list[int], size_near: float, size_far: float, near: float, far: float,
+                      curves: list[int] = (), size_curves: float | None = None) -> None:
     """Mesh the current gmsh model with quadratic tetrahedra of size ``size_near`` within ``near`` of
-    the ``surfaces``, growing linearly to ``size_far`` at ``far`` from them and beyond (rank 0)."""
+    the ``surfaces``, growing linearly to ``size_far`` at ``far`` from them and beyond; with
+    ``curves``, of size ``size_curves`` within ``near`` of those, growing at the same rate (rank 0)."""
     import gmsh
 
     field = gmsh.model.mesh.field
-    distance = field.add("Distance")
-    field.setNumbers(distance, "SurfacesList", surfaces)
-    threshold = field.add("Threshold")
-    field.setNumber(threshold, "InField", distance)
-    field.setNumber(threshold, "SizeMin", size_near)
-    field.setNumber(threshold, "SizeMax", size_far)
-    field.setNumber(threshold, "DistMin", near)
-    field.setNumber(threshold, "DistMax", far)
-    field.setAsBackgroundMesh(threshold)
+
+    def threshold(kind: str, tags, size: float) -> int:
+        distance = field.add("Distance")
+        field.setNumbers(distance, kind, list(tags))
+        graded = field.add("Threshold")
+        field.setNumber(graded, "InField", distance)
+        field.setNumber(graded, "SizeMin", size)
+        field.setNumber(graded, "SizeMax", size_far)
+        field.setNumber(graded, "DistMin", near)
+        # the same growth per length as the surfaces' field
+        field.setNumber(graded, "DistMax", near + (far - near) * (size_far - size) / (size_far - size_near)
+                        if size_far > size_near else far)
+        return graded
+
+    fields = [threshold("SurfacesList", surfaces, size_near)]
+    if curves:
+        fields.append(threshold("CurvesList", curves, size_curves))
+    smallest = field.add("Min")
+    field.setNumbers(smallest, "FieldsList", fields)
+    field.setAsBackgroundMesh(smallest)
     gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)

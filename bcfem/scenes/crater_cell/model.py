@@ -5,9 +5,11 @@ with ũ held normal to every side face: each side face stays on its plane, the f
 and y = Ly move with the lateral macroscopic strains e_x, e_y (real-space states). Their
 residuals are the derivatives of the energy, the mean lateral tractions on the side faces: zero,
 so the array spreads freely under the platen (uniaxial stress on average). The platen is
-ũ_z = -eps H on the top face, the plate ũ_z = 0 on the bottom face (both frictionless). Each
-quarter crater is a cavity of its own (:class:`bcfem.cavity.Cavity`), sealed with its own fluid.
-Pressures in p_a (μ/p_a = β), lengths in mm.
+ũ_z = -eps H on the top face, the plate ũ_z = 0 on the bottom face (both frictionless); the
+walls are in frictionless contact with the plate, z = Z + ũ_z >= 0 as bounds of the
+variational-inequality solver. Each quarter crater is a cavity of its own
+(:class:`bcfem.cavity.Cavity`, with the crater scene's contact gap, so that a wall on the plate
+is not wetted), sealed with its own fluid. Pressures in p_a (μ/p_a = β), lengths in mm.
 """
 
 from __future__ import annotations
@@ -29,9 +31,9 @@ from bcfem.geometry.crater_cell import BOTTOM, MIRROR_X, MIRROR_Y, SIDE_X, SIDE_
 from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.mpi import global_sum, real_value
 from bcfem.relaxation import Viscosity
+from bcfem.scenes.crater.model import CONTACT_GAP
 from bcfem.scenes.crater_cell.params import Params
 from bcfem.solid_3d import Solid3D
-from bcfem.stepping import SteppingError
 
 #: the lateral strains' states, along x and y
 LATERAL = ("lateral_strain_x", "lateral_strain_y")
@@ -66,10 +68,13 @@ class CellModel:
         self.surface = SolidSurfaceEnergy(gamma, self.walls, "crater_surface_energy") if gamma > 0 else None
         self.viscosity = Viscosity(self.u)
         self.energy_scale = max(1.0, beta)
-        self.cavities = [Cavity(wall) for wall in self.walls]
+        self.cavities = [Cavity(wall, CONTACT_GAP * a) for wall in self.walls]
         self._volumes = [fem.form(c.volume(kin)) for c in self.cavities]
-        # the projected opening: -∫ (cof F N)_z over the wall, the area its rim encloses on the plate
-        self._openings = [fem.form(-kin.surface_integral(kin.vertical_area(), wall)) for wall in self.walls]
+        # the wetted opening: dV/d(a lift of the whole cell), -∫ (cof F N)_z over the wall off the
+        # plate, the area its contact line encloses
+        lift = fem.Function(V)
+        lift.interpolate(lambda x: np.vstack([0 * x[0], 0 * x[0], 1 + 0 * x[0]]))
+        self._openings = [fem.form(ufl.derivative(c.volume(kin), self.u, lift)) for c in self.cavities]
         self.pressure_names = tuple("fluid_pressure" if k == 0 else f"fluid_pressure_{k}"
                                     for k in range(len(self.walls)))
         self.sealed = False
@@ -121,16 +126,32 @@ class CellModel:
             return [1.0] * len(self.walls)
         return [real_value(self.ctx.states[name]) for name in self.pressure_names]
 
+    def contact_bounds(self, problem) -> None:
+        """z = Z + ũ_z >= 0 on the walls: their frictionless contact with the plate."""
+        lower = [fem.Function(s.function_space) for s in problem.states]
+        upper = [fem.Function(s.function_space) for s in problem.states]
+        for low, up in zip(lower, upper):
+            low.x.array[:], up.x.array[:] = -1e20, 1e20
+        nodes = self._wall_nodes
+        lower[problem.names.index("displacement")].x.array[3 * nodes + 2] = -self._nodes[nodes, 2]
+        problem.set_bounds(lower, upper)
+
     def lowest_wall_point(self) -> float:
         """The least current height of the walls' nodes (collective)."""
         z = self._nodes[self._wall_nodes, 2] + self.u.x.array.reshape(-1, 3)[self._wall_nodes, 2]
         return self.mesh.comm.allreduce(float(z.min(initial=np.inf)), op=MPI.MIN)
 
+    def wall_on_plate(self) -> int:
+        """How many of the walls' nodes above the rim lie on the plate (collective)."""
+        tolerance = 1e-6 * self.cell.crater_radius
+        owned = self._wall_nodes[self._wall_nodes < self.u.function_space.dofmap.index_map.size_local]
+        Z = self._nodes[owned, 2]
+        z = Z + self.u.x.array.reshape(-1, 3)[owned, 2]
+        touching = int(np.sum((Z > tolerance) & (z <= tolerance)))
+        return self.mesh.comm.allreduce(touching, op=MPI.SUM)
+
     def observe(self, stage: str, eps: float) -> dict:
-        """The row of the current state (collective); a wall through the plate stops the path."""
-        if self.lowest_wall_point() < -1e-6 * self.cell.crater_radius:
-            raise SteppingError(f"{stage}: the crater wall reached the plate at eps = {eps:.6g}; contact of the "
-                                "wall with the plate is not modelled in crater-cell yet (lower --preload)", eps)
+        """The row of the current state (collective)."""
         V, A, p = self.volumes(), [global_sum(f) for f in self._openings], self.pressures()
         quarters = len(self.walls)
         suction = sum((1 - pk) * Ak for pk, Ak in zip(p, A))
@@ -139,4 +160,4 @@ class CellModel:
                 "F_tilde_area": suction / self.cell.area,
                 **{name: real_value(self.ctx.states[name]) for name in LATERAL},
                 "platen_force": self.platen_force() / (self.craters * self.A0),
-                "pressure_spread": max(p) - min(p)}
+                "pressure_spread": max(p) - min(p), "wall_on_plate": self.wall_on_plate()}

@@ -38,14 +38,16 @@ Units and normalisations:
   F_tilde_area   = F_tilde x F, the suction force per unit (reference) area of the array over p_a
   lateral_strain_x, _y   the cell's lateral macroscopic strains
   platen_force   the platen's force per crater over p_a A0 (< 0 pressing)
-The wall must stay off the plate: wall contact is not modelled here (the run stops
-with a message if the wall reaches the plate).
+  wall_on_plate  how many of the walls' nodes above the rim lie on the plate
+The walls are in frictionless contact with the plate (bounds of the VI solver);
+wall_on_plate counts their nodes above the rim that lie on it, and A2 is then the
+area the contact line encloses (the wall's part off the plate).
 PETSc prefixes: bcfem_crater_cell_load_ and bcfem_crater_cell_unload_."""
 
 FLUID_NAMES = ("air", "liquid")
 #: the columns of ``branch.csv``
 COLUMNS = ["stage", "eps", "p_over_pa", "V_over_V0", "A_over_A0", "F_tilde", "F_tilde_area",
-           "lateral_strain_x", "lateral_strain_y", "platen_force"]
+           "lateral_strain_x", "lateral_strain_y", "platen_force", "wall_on_plate"]
 
 
 @dataclass(frozen=True)
@@ -71,6 +73,8 @@ class Params:
         "specimen height H, above the crater and at most 100 a", "mm", bound=Bound(1e-3, 1e4)))
     size_wall: float = field(default=0.3, metadata=describe(
         "element size on the crater walls over a", bound=Bound(0.05, 1)))
+    size_rim: float = field(default=0.1, metadata=describe(
+        "element size at the craters' rims over a, at most --size-wall", bound=Bound(0.01, 1)))
     size_far: float = field(default=0.8, metadata=describe(
         "element size far from the walls over a, at least --size-wall", bound=Bound(0.05, 5)))
     surface_energy: float = field(default=0.0, metadata=describe(
@@ -88,6 +92,8 @@ class Params:
         for name, choices in (("lattice", LATTICES), ("fluid", FLUID_NAMES)):
             require(getattr(self, name) in choices,
                     f"--{name} must be one of {list(choices)} (got {getattr(self, name)!r})")
+        require(self.size_rim <= self.size_wall,
+                f"--size-rim must be at most --size-wall = {self.size_wall:g} (got {self.size_rim:g})")
         require(self.size_wall <= self.size_far,
                 f"--size-far must be at least --size-wall = {self.size_wall:g} (got {self.size_far:g})")
         require(self.specimen_height <= 100 * self.crater_radius,
@@ -103,9 +109,9 @@ class Params:
                 f"--specimen-height must exceed the crater's depth b = {depth:g} mm (got {self.specimen_height:g})")
         with flags_named(self):
             cell = self.geometry()
-        check_meshable(cell.estimated_cells(), "--size-wall, --size-far and --filling")
+        check_meshable(cell.estimated_cells(), "--size-wall, --size-rim, --size-far and --filling")
 
     def geometry(self) -> CraterCell:
         return CraterCell(lattice=self.lattice, filling=self.filling, crater_radius=self.crater_radius,
                           alpha=self.alpha, height=self.specimen_height, size_wall=self.size_wall,
-                          size_far=self.size_far)
+                          size_rim=self.size_rim, size_far=self.size_far)

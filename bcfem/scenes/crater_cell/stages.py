@@ -46,13 +46,15 @@ class CellCycle:
         cell = model.cell
         run.results.update(instabilities=events, spacing=cell.spacing, cell_extent=list(cell.extent),
                            craters_in_cell=cell.craters)
-        kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
+        kwargs = dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=model.energy_scale,
+                      line_search_fallbacks=LINE_SEARCH_FALLBACKS)
         step = params.strain_step
 
         def record(stage):
             return lambda eps: run.record(model.observe(stage, eps))
 
         with run.stage("load", model.ctx, model.terms(), model.bcs, **kwargs) as loading:
+            model.contact_bounds(loading)
             model.measure_force(loading)
             path = self._path(loading, "load", events)
             record("load")(0.0)
@@ -62,6 +64,7 @@ class CellCycle:
         V1 = preloaded["V_over_V0"]
         fluids = model.seal()
         with run.stage("unload", model.ctx, model.terms(*fluids), model.bcs, **kwargs) as unloading:
+            model.contact_bounds(unloading)
             model.measure_force(unloading)
             path = self._path(unloading, "unload", events)
             path.start()
@@ -91,6 +94,7 @@ class CellCycle:
             "platen_force_at_preload": preloaded["platen_force"],
             # the craters of a hexagonal cell are one crater of the lattice twice: equal pressures
             "pressure_spread": max(r["pressure_spread"] for r in run.rows),
+            "wall_on_plate": max(r["wall_on_plate"] for r in run.rows),
             "stability": classify(events)})
 
     def figures(self, rows, summary) -> dict:
