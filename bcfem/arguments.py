@@ -58,13 +58,26 @@ def _bounded(bound: Bound):
     return parse
 
 
+def _reported(convert):
+    """A parser whose ``ValueError`` argparse reports with its message (one line, exit 2)."""
+    def parse(text: str):
+        try:
+            return convert(text)
+        except ValueError as err:
+            raise argparse.ArgumentTypeError(str(err)) from None
+
+    parse.__name__ = convert.__name__
+    return parse
+
+
 class AxisSpec(str):
     """A sweep flag's ``start:stop:step`` (e.g. ``--preload 0:0.5:0.025``): a grid axis."""
 
 
 def _range_or(convert):
     def parse(text: str):
-        return AxisSpec(text) if ":" in text else convert(text)
+        # start:stop:step of numbers (a word before the colon is the field's own, a profile)
+        return AxisSpec(text) if ":" in text and _number(text.split(":")[0]) else convert(text)
 
     parse.__name__ = f"start:stop:step or {convert.__name__}"
     return parse
@@ -93,6 +106,8 @@ def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> No
             kwargs["choices"] = list(choices)
         if kind is bool:
             kwargs["action"] = argparse.BooleanOptionalAction
+        elif "parse" in f.metadata:  # a text the field's own parser reads (a number or a profile)
+            kwargs["type"] = _reported(f.metadata["parse"])
         else:
             kwargs["type"] = {float: _float, int: _integer}.get(kind, kind)
         words = f.metadata.get("words", getattr(params_cls, "WORDS", {}).get(f.name))

@@ -59,17 +59,22 @@ class SurfaceTension:
     r"""Interface energy in the current configuration, :math:`\gamma A = \int \gamma\,\lambda_r\lambda_\theta\, dA`.
 
     The tension is isotropic and independent of strain (a liquid/solid
-    interface, eq. 3.42); ``gamma`` is the run-time constant ``name``.
+    interface, eq. 3.42); ``gamma`` is the run-time constant ``name``. With a
+    ``profile`` the energy per current area is :math:`\gamma f(R)/\max|f|` at the
+    material radius R (``ctx.kin.R``): the energy belongs to the material points
+    (eq. 10.1's :math:`\Delta\gamma(X)`), and ``gamma`` is its scale.
 
     Attributes:
         gamma: surface energy density [N/m], >= 0.
         name: name of the run-time constant.
         region: cell tag of the wetted part of the membrane (None: all of it).
+        profile: None, or a :class:`bcfem.radial_profile.RadialProfile` (values in [0, 1] times gamma).
     """
 
     gamma: float
     name: str = "gamma_l"
     region: int | None = None
+    profile: object = None
     multipliers = ()
 
     def __post_init__(self):
@@ -77,6 +82,8 @@ class SurfaceTension:
 
     def energy(self, ctx):
         gamma = ctx.constant(self.name, self.gamma)
+        if self.profile is not None:
+            gamma = gamma * self.profile.shape(ctx.kin.R)
         return ctx.kin.integral(gamma * ctx.kin.area_stretch, self.region)
 
 
@@ -123,19 +130,28 @@ class WettedSubstrate:
     With ``region`` the projected area is that of the tagged part only (its
     outer edge radius squared times π, when the part starts on the axis).
 
+    With a ``profile`` the energy per wetted area is :math:`\gamma f(r)/\max|f|` at the
+    current radius r, the rigid substrate's point under the membrane, so the energy is
+    :math:`\int_0^{r_0}\gamma f(\rho)\,2\pi\rho\,d\rho` (r increasing along the meridian)
+    and its variation in :math:`r_0` sees the local value :math:`f(r_0)`.
+
     Attributes:
         gamma: energy per wetted area [N/m] (any sign).
         name: name of the run-time constant.
         region: cell tag of the part of the membrane that covers the area (None: all).
+        profile: None, or a :class:`bcfem.radial_profile.RadialProfile` (values in [-1, 1] times gamma).
     """
 
     gamma: float
     name: str = "gamma_wet"
     region: int | None = None
+    profile: object = None
     multipliers = ()
 
     def energy(self, ctx):
         gamma = ctx.constant(self.name, self.gamma)
+        if self.profile is not None:
+            gamma = gamma * self.profile.shape(ctx.kin.r)
         return ctx.kin.integral(gamma * ctx.kin.lam_theta * ctx.kin.dr, self.region)
 
 

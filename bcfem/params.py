@@ -9,6 +9,8 @@ import re
 from contextlib import contextmanager
 from dataclasses import dataclass
 
+from bcfem.radial_profile import RadialProfile, checked_values
+
 
 def require(condition: bool, message: str) -> None:
     """Raise ``ValueError(message)`` unless ``condition``; messages name the parameter and range."""
@@ -82,8 +84,11 @@ def check_bounds(params) -> None:
     for f in dataclasses.fields(params):
         bound = bound_of(type(params), f.name)
         value = getattr(params, f.name)
-        if bound is not None and not bound.admits(value):
-            raise ValueError(f"{flag(f.name)} must be {bound} (got {value!r})")
+        if bound is None or all(bound.admits(v) for v in checked_values(value)):
+            continue
+        if isinstance(value, RadialProfile):
+            raise ValueError(f"every value of {flag(f.name)} must be {bound} (got {value})")
+        raise ValueError(f"{flag(f.name)} must be {bound} (got {value!r})")
 
 
 @dataclass(frozen=True)

@@ -45,6 +45,7 @@ from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, creat
 from bcfem.interface import LiquidGap, MembraneSurface, OnSurface, Scaled
 from bcfem.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
 from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
+from bcfem.radial_profile import RadialProfile, scale_of, shape_of
 from bcfem.scene import Scene
 from bcfem.scenes.blister_soft.front import front_weight, material_coordinates, weight_function
 from bcfem.scenes.blister_soft.params import COLUMNS, Params
@@ -93,13 +94,18 @@ class Model:
                       OnSurface(MembraneStrain(membrane), self.free, "free"),
                       OnSurface(MembraneStrain(membrane), self.bonded, "bonded"),
                       OnSurface(PressureVolume(), self.gap, "liquid")]
+        # a dgamma profile is a function of the material radius R = X(xi; R1) of the bonded top
+        # (R > R1), not of the mesh's xi: at fixed positions dPi/dR1 then sees dgamma(R1)
         for gamma, name, surface in ((params.alpha, "gamma_l", self.free),
                                      (params.gamma_ls, "gamma_ls", self.wetted),
                                      (params.delta_gamma, "delta_gamma", self.bonded)):
-            if gamma > 0:
-                self.terms.append(OnSurface(SurfaceTension(gamma, name), surface, name))
+            if scale_of(gamma) > 0:
+                self.terms.append(OnSurface(SurfaceTension(scale_of(gamma), name, profile=shape_of(gamma)),
+                                            surface, name))
         # the flat state's interface energies of the substrate, left out of the reported energy
-        self.energy_offset = params.gamma_ls + params.delta_gamma * (L**2 - 1)
+        dgamma = params.delta_gamma
+        self.energy_offset = params.gamma_ls + (dgamma.area_integral(1.0, L) if isinstance(dgamma, RadialProfile)
+                                                else dgamma * (L**2 - 1))
         self.bcs = self._bcs(V, facets)
         for term in self.terms:  # create every state now (the pressures)
             term.energy(self.ctx)

@@ -12,6 +12,8 @@ from typing import ClassVar
 from bcfem.geometry.substrate import SubstrateGeometry
 from bcfem.materials import MATERIALS
 from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, flags_named, require
+from bcfem.radial_profile import WIDTH, RadialProfile
+from bcfem.radial_profile import parse as parse_profile
 
 SUMMARY = "membrane blister bonded to a soft substrate, one energy (ch. 4)"
 DESCRIPTION = """\
@@ -28,6 +30,9 @@ through its limit points. With --edge adhesive the debond radius R1 (the membran
 material point at the contact line) is a state: held at R0 until the configurational
 force -dPi/dR1 turns positive (delamination onset), then dPi/dR1 = 0 (Griffith, no
 healing); the mesh stays, a map of the reference configuration moves the front.
+A dgamma profile (--delta-gamma step:..., ramp:..., table:...) belongs to the substrate's
+material points: the bonded energy is the integral of dgamma(R) over the bonded top's
+current area, and the release rate sees dgamma(R1), the value at the front.
 Far field: the block 0 <= R <= L R0, -L R0 <= Z <= 0,
 bottom fixed, far side on rollers (u_r = 0), axis u_r = 0.
 
@@ -51,7 +56,7 @@ Units and normalisations (all inputs and outputs are dimensionless):
                    = the fraction of the free membrane's reference area where a principal
                      tension is negative (hoop compression where the contact line is dragged
                      inwards; the membrane has no bending stiffness and would wrinkle there)
-  energy           = (Pi - gamma_ls pi R0^2 - dgamma pi (L^2 - 1) R0^2)/(pi R0^2 mu_f t0)
+  energy           = (Pi - gamma_ls pi R0^2 - int_R0^{L R0} dgamma(R) 2 pi R dR)/(pi R0^2 mu_f t0)
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/indentation.png,
 DIR/fields.bp (VTX, the substrate; the displacement is the position minus the mesh
 point, which differs from the material point by the front's map when R1 > R0),
@@ -62,7 +67,11 @@ HELP = {
     "stiffness_ratio": "mu_s R0 / (mu_f t0) (large: the rigid substrate)",
     "alpha": "gamma_l/(mu_f t0), liquid-membrane interface energy",
     "gamma_ls": "gamma_ls/(mu_f t0), liquid-substrate interface energy",
-    "delta_gamma": "dgamma/(mu_f t0), membrane-substrate interface energy",
+    "delta_gamma": "dgamma/(mu_f t0), membrane-substrate interface energy (debonding costs alpha + gamma-ls - "
+                   "dgamma per area): a number, or a profile of the substrate's material radius R/R0, "
+                   "step:R_s:inner:outer[:width], ramp:R_a:R_b:inner:outer[:width] or table:FILE[:width] "
+                   "(rows 'R dgamma', linear between), steps and kinks smoothed over width "
+                   f"(default {WIDTH:g}, >= 2 contact elements); the front sees dgamma(R1)",
     "edge": "edge condition: bonded (R0 fixed) or adhesive (the debond radius R1 >= R0 is a state, "
             "released when -dPi/dR1 turns positive, then dPi/dR1 = 0)",
     "size_factor": "L: the substrate block is L R0 wide and deep (the adhesive edge: L >= 2.5)",
@@ -106,7 +115,7 @@ class Params:
     stiffness_ratio: float = 1.0
     alpha: float = 0.5
     gamma_ls: float = 0.5
-    delta_gamma: float = 0.5
+    delta_gamma: float | RadialProfile = field(default=0.5, metadata={"parse": parse_profile})
     edge: str = "bonded"
     size_factor: float = 10.0
     v_max: float = 3.0
@@ -134,6 +143,13 @@ class Params:
         require(self.edge in EDGES, f"--edge must be one of {list(EDGES)} (got {self.edge!r})")
         require(self.edge != "adhesive" or self.size_factor >= 2 * (1 + FRONT_PLATEAU),
                 f"--size-factor must be >= {2 * (1 + FRONT_PLATEAU):g} for the adhesive edge (got {self.size_factor})")
+        if isinstance(self.delta_gamma, RadialProfile) and self.delta_gamma.windows:
+            # a window of two elements at the contact line: the release rate's quadrature error
+            # is then < 1e-2 where the front meets a step (docs/blister-soft.md)
+            finest = self.size_contact / 2**self.refine
+            require(self.delta_gamma.width >= 2 * finest - 1e-12,
+                    f"--delta-gamma's smoothing width {self.delta_gamma.width:g} must be >= 2 elements at the "
+                    f"contact line ({2 * finest:g} R0 at --size-contact {self.size_contact:g}, --refine {self.refine})")
         require(self.v_start < self.v_max, f"need --v-start < --v-max (got {self.v_start}, {self.v_max})")
         with flags_named(self):
             geometry = self.geometry()  # the mesh sizes, before any meshing

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from bcfem.continuation import ArcLength, ContinuationError
 from bcfem.log import logger
+from bcfem.radial_profile import scale_of
 from bcfem.runner import _join, start
 from bcfem.scene import Scene
 
@@ -84,9 +85,9 @@ def start_path(ctx, params):
     k1 = params.stiffness_ratio
     k0 = max(k1, STIFF_START)
     # the constants of the interface terms the scene holds (only those > 0)
-    gammas = {name: getattr(params, attr) for name, attr in
+    gammas = {name: scale_of(getattr(params, attr)) for name, attr in
               (("gamma_l", "alpha"), ("gamma_ls", "gamma_ls"), ("delta_gamma", "delta_gamma"))
-              if getattr(params, attr) > 0}
+              if scale_of(getattr(params, attr)) > 0}
     shrink = min(1.0, 1.0 / max([*gammas.values(), 1e-300]))
 
     def path(t):
