@@ -205,13 +205,21 @@ def _check_radii(radii: list[float], text: str) -> None:
 
 
 def scale_of(value) -> float:
-    """The magnitude of a number or of a profile (max |f|)."""
-    return value.scale if isinstance(value, RadialProfile) else abs(value)
+    """The run-time constant of a term: a number itself, or a profile's scale max |f|."""
+    return value.scale if isinstance(value, RadialProfile) else value
 
 
 def shape_of(value):
     """None for a number (a uniform term), the profile for a profile of nonzero scale."""
     return value if isinstance(value, RadialProfile) and value.scale > 0 else None
+
+
+def check_resolved(value, element: float, flag: str, where: str) -> None:
+    """``ValueError`` unless a profile's windows span 2 elements of size ``element`` (``where``:
+    which elements, in the flags' words): the release rate's quadrature error is then < 1e-2."""
+    if isinstance(value, RadialProfile) and value.windows and value.width < 2 * element - 1e-12:
+        raise ValueError(f"{flag}'s smoothing width {value.width:g} must be >= 2 elements {where} "
+                         f"({2 * element:g} R0)")
 
 
 def checked_values(value) -> tuple:

@@ -157,11 +157,11 @@ STEP = dict(edge="adhesive", stiffness_ratio=2.0, growth=1.5, size_contact=0.02,
 R_S, WIDTH = 1.1, 0.1
 
 
-def trace_to_front(delta_gamma, radius):
+def trace_to_front(delta_gamma, radius, **changes):
     from bcfem.scenes.blister_soft.model import build
     from bcfem.scenes.blister_soft.path import trace
 
-    scene = build(blister_soft.Params(**STEP, delta_gamma=delta_gamma), MPI.COMM_SELF)
+    scene = build(blister_soft.Params(**{**STEP, **changes}, delta_gamma=delta_gamma), MPI.COMM_SELF)
     scene.end = lambda values: values["R1_over_R0"] - radius
     return trace(scene).rows
 
@@ -213,3 +213,50 @@ def test_two_ranks_equal_serial_through_a_step(tmp_path):
     assert pairs[0][0] is rows2[0]
     for mine, theirs in pairs:
         assert mine == pytest.approx(theirs, rel=1e-7, abs=1e-9)
+
+
+def rigid_rows(adhesion, stop_radius):
+    from bcfem.runner import branch_of
+    from bcfem.scenes import blister_rigid
+
+    params = blister_rigid.Params(material="neo-hookean", alpha=0.5, edge="adhesive", adhesion=adhesion, v_max=1.0,
+                                  stop_radius=stop_radius)
+    return branch_of(blister_rigid.build(params, MPI.COMM_SELF)).rows
+
+
+@pytest.mark.serial
+def test_a_step_in_the_rigid_adhesion_pins_the_front():
+    """blister-rigid --edge adhesive --adhesion step:1.1:0:0.4:0.1 (gamma_ls - dgamma of the
+    substrate's radius; the front sees its value at r1 = R1): the front waits in the window,
+    its pressure rising, and leaves it on the uniform adhesion-0.4 branch, equal at R1 = 1.15."""
+    step = rigid_rows(parse(f"step:{R_S}:0:0.4:{WIDTH}"), R_S + WIDTH / 2)
+    outer = rigid_rows(0.4, R_S + WIDTH / 2)
+    for key in ("V_over_V0", "P", "aspect", "r1_over_R0"):
+        assert step[-1][key] == pytest.approx(outer[-1][key], rel=1e-7), key
+    arrive = next(r for r in step if r["R1_over_R0"] >= R_S - WIDTH / 2)
+    assert max(r["P"] for r in step) - arrive["P"] > 0.2
+    assert arrive["V_over_V0"] < 0.6 * step[-1]["V_over_V0"]
+
+
+@pytest.mark.serial
+def test_a_rigid_adhesion_profile_needs_the_adhesive_edge(tmp_path):
+    line = refused("run", "blister-rigid", "--edge", "sliding", "--adhesion", "step:1.1:0:0.4", out=tmp_path / "out")
+    assert "--adhesion takes a profile with --edge adhesive only" in line
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+def test_the_step_pinned_front_tends_to_the_rigid_one():
+    """The soft blister with dgamma = step:1.1:0.5:0.1 (gamma_ls = 0.5) and the rigid one with
+    adhesion gamma_ls - dgamma = step:1.1:0:0.4 leave the window at R1 = 1.15 in the same state
+    as the substrate stiffens: the error of P there falls about tenfold per decade of the
+    stiffness ratio (O(1/ratio)), to 1e-4 at 1e4 (1e3: 7.9e-4, 1e4: 7.8e-5; V/V0 5e-5, 1e-5)."""
+    rigid = rigid_rows(parse(f"step:{R_S}:0:0.4:{WIDTH}"), R_S + WIDTH / 2)[-1]
+    errors = []
+    for ratio in (1e3, 1e4):
+        soft = trace_to_front(parse(f"step:{R_S}:0.5:0.1:{WIDTH}"), R_S + WIDTH / 2, stiffness_ratio=ratio,
+                              alpha=0.5, gamma_ls=0.5, growth=1.25, size_contact=0.01)[-1]
+        errors.append((abs(soft["P"] / rigid["P"] - 1), abs(soft["V_over_V0"] - rigid["V_over_V0"])))
+    print("leaving the step, errors (P rel, V/V0) at ratios 1e3, 1e4:", errors)
+    assert errors[1][0] < 1e-4 and errors[1][1] < 2e-5, errors
+    assert errors[1][0] < errors[0][0] / 5 and errors[1][1] < errors[0][1] / 3, errors

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from typing import ClassVar
 
 import numpy as np
@@ -32,6 +32,8 @@ from bcfem.materials import MATERIALS, Gent, NeoHookean
 from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, global_sum, real_value, sample
 from bcfem.params import Bound, ContinuationParams, check_bounds, require
 from bcfem.protocols import find_term
+from bcfem.radial_profile import RadialProfile, check_resolved, shape_of
+from bcfem.radial_profile import parse as parse_profile
 from bcfem.scene import Scene
 from bcfem.scenes.membrane_edges import EDGES, domain
 from bcfem.theory.membrane import droplet, droplet_angle_from_volume, simple_membrane_pressure
@@ -68,7 +70,9 @@ HELP = {
             "adhesive (delamination when it lowers the free energy)",
     "phi_Y_deg": "Young angle of the liquid on the substrate [deg] (sliding edge)",
     "adhesion": "(gamma_ls - dgamma)/(mu_f t0), cost of debonding per area (adhesive, slippery); "
-                "negative: debonding releases energy (Figs. 3.15-3.16 map [-10, 20])",
+                "negative: debonding releases energy (Figs. 3.15-3.16 map [-10, 20]); with --edge adhesive "
+                "also a profile of the substrate's radius r/R0 as blister-soft's --delta-gamma takes it "
+                "(step:R_s:inner:outer[:width], ramp:..., table:FILE[:width]; width >= 2 cells at R1 = R0)",
     "outer_radius": "outer material radius n of the film, in R0 (slippery edge)",
     "far_field": "(gamma_s - dgamma)/(mu_f t0) = N_r at the outer radius (slippery edge)",
     "stop_radius": "also end the branch when the debond radius R1/R0 reaches this (inf: never)",
@@ -106,7 +110,7 @@ class Params:
     stiffness: float = 1.0
     edge: str = "clamped"
     phi_Y_deg: float = 135.0
-    adhesion: float = 2.5
+    adhesion: float | RadialProfile = field(default=2.5, metadata={"parse": parse_profile})
     outer_radius: float = 4.0
     far_field: float = 0.0
     stop_radius: float = math.inf
@@ -128,6 +132,9 @@ class Params:
                 f"--material must be one of {sorted(MATERIALS)} (got {self.material!r})")
         require(self.edge in EDGES, f"--edge must be one of {sorted(EDGES)} (got {self.edge!r})")
         require(self.v_start < self.v_max, f"need --v-start < --v-max (got {self.v_start}, {self.v_max})")
+        if isinstance(self.adhesion, RadialProfile):
+            require(self.edge == "adhesive", f"--adhesion takes a profile with --edge adhesive only (got {self.edge})")
+            check_resolved(self.adhesion, 1 / self.cells, "--adhesion", f"at R1 = R0 (--cells {self.cells})")
         require(self.start_volume == 0 or self.v_start <= self.start_volume < self.v_max,
                 f"--start-volume must be 0 or in [v-start, v-max) (got {self.start_volume})")
 
@@ -158,7 +165,7 @@ def structure(params: Params) -> tuple:
     """What a composed :class:`Model` depends on: every parameter but the :data:`RUN_TIME`
     ones, and whether there is surface tension at all (hashable; equal keys, same model)."""
     fixed = sorted((f.name, getattr(params, f.name)) for f in fields(params) if f.name not in RUN_TIME)
-    return (*fixed, ("surface_tension", params.alpha > 0))
+    return (*fixed, ("surface_tension", params.alpha > 0), ("adhesion_profile", shape_of(params.adhesion)))
 
 
 @dataclass
@@ -229,7 +236,10 @@ def scene_for(model: Model, params: Params) -> Scene:
                  if params.start_at > params.v_start else None,
                  grows="V_over_V0",
                  progress_keys=("V_over_V0", "P", "aspect"), fields=[ctx.u],
-                 continuation=params.continuation,
+                 # an adhesion profile folds the branch where the front meets a step (held, then
+                 # released): a correction that lands beyond the fold is refused, the step halved
+                 continuation=replace(params.continuation, max_correction=min(1.0, params.continuation.max_correction))
+                 if isinstance(params.adhesion, RadialProfile) else params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
                  # membrane pressures are O(stiffness), a droplet's O(2 alpha)
                  load_scale=max(params.stiffness, 2 * params.alpha),
@@ -339,7 +349,8 @@ def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
     """
     young = {"sliding": params.phi_Y_deg,
              "slippery": math.degrees(math.acos(-params.adhesion / params.alpha))
-             if params.alpha > 0 and abs(params.adhesion) < params.alpha else None}.get(params.edge)
+             if params.edge == "slippery" and 0 < params.alpha and abs(params.adhesion) < params.alpha
+             else None}.get(params.edge)
     if young is not None:
         weight = params.alpha / (params.alpha + params.stiffness)
         theta = math.radians(90.0 + weight * (young - 90.0))

@@ -10,7 +10,7 @@ and Griffith-type edge conditions of eqs. 3.59-3.64 are then the natural
   π r0² of substrate at (γ_ls - γ_s) = -γ_l cos φY per area (Young's angle φY).
 * adhesive: the debond radius R1 >= 1 is a real-space unknown (R = R1 ξ);
   u = 0 at R1 (the bonded film is unstretched, r1 = R1); debonding costs
-  (γ_ls - Δγ) per area. Its row holds R1 until the configurational force
+  (γ_ls - Δγ) per area, or a profile of the rigid substrate's radius. Its row holds R1 until the configurational force
   ∂Π/∂R1 turns negative (onset, a Switch), then is ∂Π/∂R1 = 0.
 * slippery: the film beyond the front R1 stays on a wet substrate (z = 0)
   but slides, out to the material radius n R0, and is strained too. The mesh
@@ -33,6 +33,7 @@ from dolfinx import fem, mesh
 from bcfem.bcs import component, where
 from bcfem.energies import WettedSubstrate
 from bcfem.kinematics import scaled, two_zone
+from bcfem.radial_profile import scale_of, shape_of
 
 
 @dataclass
@@ -152,11 +153,12 @@ def adhesive(ctx, params) -> Edge:
     V = ctx.u.function_space
     R1, free, rows, restart = moving_front(ctx)
 
-    def constants(p):
-        return {"gamma_wet": p.adhesion}
+    def constants(p):  # a profile's shape is compiled in, its scale a constant
+        return {"gamma_wet": scale_of(p.adhesion)}
 
+    wetted = WettedSubstrate(constants(params)["gamma_wet"], profile=shape_of(params.adhesion))
     return Edge("adhesive", [_fixed_edge_bc(V), _axis_bc(V)],
-                terms=[WettedSubstrate(constants(params)["gamma_wet"])], reference=scaled(R1), rows=rows,
+                terms=[wetted], reference=scaled(R1), rows=rows,
                 free=free, constants=constants, restart=restart)
 
 

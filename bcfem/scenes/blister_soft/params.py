@@ -12,7 +12,7 @@ from typing import ClassVar
 from bcfem.geometry.substrate import SubstrateGeometry
 from bcfem.materials import MATERIALS
 from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, flags_named, require
-from bcfem.radial_profile import WIDTH, RadialProfile
+from bcfem.radial_profile import WIDTH, RadialProfile, check_resolved
 from bcfem.radial_profile import parse as parse_profile
 
 SUMMARY = "membrane blister bonded to a soft substrate, one energy (ch. 4)"
@@ -143,13 +143,8 @@ class Params:
         require(self.edge in EDGES, f"--edge must be one of {list(EDGES)} (got {self.edge!r})")
         require(self.edge != "adhesive" or self.size_factor >= 2 * (1 + FRONT_PLATEAU),
                 f"--size-factor must be >= {2 * (1 + FRONT_PLATEAU):g} for the adhesive edge (got {self.size_factor})")
-        if isinstance(self.delta_gamma, RadialProfile) and self.delta_gamma.windows:
-            # a window of two elements at the contact line: the release rate's quadrature error
-            # is then < 1e-2 where the front meets a step (docs/blister-soft.md)
-            finest = self.size_contact / 2**self.refine
-            require(self.delta_gamma.width >= 2 * finest - 1e-12,
-                    f"--delta-gamma's smoothing width {self.delta_gamma.width:g} must be >= 2 elements at the "
-                    f"contact line ({2 * finest:g} R0 at --size-contact {self.size_contact:g}, --refine {self.refine})")
+        check_resolved(self.delta_gamma, self.size_contact / 2**self.refine, "--delta-gamma",
+                       f"at the contact line (--size-contact {self.size_contact:g}, --refine {self.refine})")
         require(self.v_start < self.v_max, f"need --v-start < --v-max (got {self.v_start}, {self.v_max})")
         with flags_named(self):
             geometry = self.geometry()  # the mesh sizes, before any meshing
