@@ -3,16 +3,28 @@ r"""The blister on a soft substrate as one energy: mesh, states, terms, conditio
 In units of :math:`\mu_f t_0 R_0^2` (lengths by :math:`R_0`), with :math:`dA = 2\pi R\,dR`
 on the substrate's top :math:`Z = 0` and :math:`dV = 2\pi R\,dR\,dZ` in it,
 
-.. math:: \Pi = \underbrace{\int_{R<1} W_f(I_1^f)\,dA + \int_{R>1} W_f(I_1^s)\,dA}_{U_f}
+.. math:: \Pi = \underbrace{\int_{R<R_1} W_f(I_1^f)\,dA + \int_{R>R_1} W_f(I_1^s)\,dA}_{U_f}
           + \underbrace{\int k\,W_s(F, p)\,dV}_{U_s} - P\,V
-          + \alpha \int_{R<1} \lambda_r^f\lambda_\theta^f\,dA
-          + \gamma_{ls}\int_{R<1}\lambda_r^s\lambda_\theta^s\,dA
-          + \Delta\gamma\int_{R>1}\lambda_r^s\lambda_\theta^s\,dA,
+          + \alpha \int_{R<R_1} \lambda_r^f\lambda_\theta^f\,dA
+          + \gamma_{ls}\int_{R<R_1}\lambda_r^s\lambda_\theta^s\,dA
+          + \int_{R>R_1}\Delta\gamma(R)\,\lambda_r^s\lambda_\theta^s\,dA,
 
 :math:`k = \mu_s R_0/(\mu_f t_0)`, :math:`W_s` the nearly incompressible neo-Hookean law
 with its mixed pressure, the free membrane :math:`x_f = x_s + w` (superscript f) and the
 substrate's surface :math:`x_s` (superscript s, also the bonded membrane's position), and
-the liquid volume :math:`V = -\int_0^1 \pi(r_f^2 z_f' - r_s^2 z_s')\,dR`. The states:
+the liquid volume :math:`V = -\int_0^1 \pi(r_f^2 z_f' - r_s^2 z_s')\,dR`
+(:math:`R_1 = 1` for the bonded edge; the adhesive edge's front, :mod:`.front`).
+
+A profile :math:`\Delta\gamma(R)` belongs to the substrate's material points (eq. 10.1's
+:math:`\Delta\gamma(X)`, X on the undeformed top). With the front's map :math:`R = X(\xi; R_1)`
+the bonded term is :math:`\int_{\xi>1}\Delta\gamma(X(\xi; R_1))\,a(\xi)\,d\xi`, a the
+current area per :math:`d\xi` (fixed at fixed positions); in material variables that is
+:math:`\int_{R_1}^{L}\Delta\gamma(R)\,\hat a(R)\,dR`, whose derivative at a fixed deformation
+is :math:`-\Delta\gamma(R_1)\,\hat a(R_1)`. The two are one function of (deformation,
+:math:`R_1`), so at equilibrium :math:`d\Pi/dR_1` sees :math:`\Delta\gamma(R_1)`. Evaluated at
+the mesh's :math:`\xi` instead, the profile would travel with the front.
+
+The states:
 the substrate's displacement (P2) and pressure (P1), the lift w (P2 on the wetted facets,
 0 at the contact vertex), and P (the arc-length load).
 
