@@ -221,6 +221,33 @@ def test_retraction_pulls_the_specimen_off_where_the_seal_opens():
     assert off["platen_force"] > summary["F_tilde"] > 0
 
 
+@pytest.mark.slow
+@pytest.mark.mpi
+@pytest.mark.serial
+def test_bottom_contact_and_retraction_on_two_ranks_equal_serial(tmp_path):
+    flags = ["--bottom", "contact", "--preload", "0.1", "--retract", "0.05", "--size-crater", "0.16",
+             "--strain-step", "0.05", "--quiet", "--no-plots"]
+    summaries, branches = [], []
+    for ranks in (1, 2):
+        out = tmp_path / f"n{ranks}"
+        res = bcfem("run", "crater", *flags, "--out", out, ranks=ranks)
+        assert res.returncode == 0, res.stderr
+        summaries.append(json.loads((out / "summary.json").read_text()))
+        with open(out / "branch.csv") as f:
+            branches.append(list(csv.DictReader(f)))
+    (serial, parallel), (rows, rows_2) = summaries, branches
+    assert parallel["ranks"] == 2
+    for key in ("F_tilde", "p2_over_pa", "A2_over_A0", "plate_reaction_tilde"):
+        assert parallel[key] == pytest.approx(serial[key], rel=1e-7)
+    assert (parallel["pull_off"] is None) == (serial["pull_off"] is None)
+    if serial["pull_off"]:
+        assert parallel["pull_off"]["eps"] == pytest.approx(serial["pull_off"]["eps"], abs=1e-8)
+    assert len(rows) == len(rows_2)
+    for a, b in zip(rows, rows_2):
+        assert (a["stage"], float(a["eps"])) == (b["stage"], pytest.approx(float(b["eps"]), abs=1e-10))
+        assert float(a["platen_force"]) == pytest.approx(float(b["platen_force"]), rel=1e-6, abs=1e-10)
+
+
 def test_retraction_needs_a_bottom_that_can_lift(tmp_path):
     assert "--bottom contact" in refused("run", "crater", "--retract", "0.05", out=tmp_path / "r")
 
