@@ -47,9 +47,12 @@ bench: venv
 	$(BIN)/python benchmarks/crater_closure.py
 	$(BIN)/python benchmarks/crater_regulariser.py
 	$(BIN)/python benchmarks/crater_double.py
+	$(BIN)/python benchmarks/crater_double_exchange.py
 	$(BIN)/python benchmarks/blister_soft.py
 	$(BIN)/python benchmarks/blister_soft_delamination.py
+	$(BIN)/python benchmarks/blister_soft_dgamma_step.py
 	$(BIN)/python benchmarks/droplet_soft.py
+	$(BIN)/python benchmarks/droplet_soft_cusp.py
 
 # the dissertation's figures, reproduced by the demos on $(NP) ranks: docs/figures/<demo>/
 # (--full: the published grids; demos without such a grid ignore it)
