@@ -8,7 +8,7 @@ limit (d = 8a) towards close packing; the isolated crater in a wide specimen
 scene's default mesh (size-wall 0.3, size-rim 0.1, size-far 0.8: at d = 8a, F~ within 0.1 % of
 the isolated crater in a wide specimen).
 
-Usage (from the repository root; about 25 min on one free core)::
+Usage (from the repository root; about 8 min on one free core)::
 
     .venv/bin/python benchmarks/crater_cell_filling.py
 

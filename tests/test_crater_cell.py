@@ -125,25 +125,26 @@ def test_hexagonal_cell_is_isotropic_in_the_plane():
 
 
 @pytest.mark.slow
-def test_sparse_limit_is_the_isolated_crater():
+@pytest.mark.parametrize(("preload", "wide_F", "wide_AV"), [(0.1, 5e-3, 1e-3), (0.2, 1e-2, 2e-3)])
+def test_sparse_limit_is_the_isolated_crater(preload, wide_F, wide_AV):
     """A square lattice at d = 8a (F = pi/64) against the isolated crater on a specimen of the
-    same height, at preload 0.1: F_tilde within 2 % of the crater on a cylinder of the cell's
-    area (R = d / sqrt(pi), its free outer face the difference), and within the cell's
-    discretisation error (0.3 % from size-wall 0.3 to 0.2) of the crater in a wide specimen
-    (R = 2d, where R = 6a, 8a and 16a agree to 0.15 %)."""
-    params = crater_cell.Params(filling=math.pi / 64, preload=0.1)
+    same height: F_tilde within 2 % of the crater on a cylinder of the cell's area (R = d / sqrt(pi),
+    its free outer face the difference), and within the cell's discretisation error of the
+    crater in a wide specimen (R = 2d; R = 6a, 8a and 16a agree to 0.15 % at preload 0.1):
+    0.09 % at 0.1, 0.46 % at 0.2 (tolerances wide_F, and wide_AV for A2 and V1)."""
+    params = crater_cell.Params(filling=math.pi / 64, preload=preload)
     _, summary = crater_cell.solve(params, MPI.COMM_WORLD)
     d = params.geometry().spacing
     isolated = {}
     for name, radius in (("cell's area", d / math.sqrt(math.pi)), ("wide", 2 * d)):
-        _, isolated[name] = crater.solve(crater.Params(preload=0.1, surface_energy=0.0, self_contact=0.0,
+        _, isolated[name] = crater.solve(crater.Params(preload=preload, surface_energy=0.0, self_contact=0.0,
                                                        specimen_radius=radius), MPI.COMM_WORLD)
     print("F_tilde: cell", summary["F_tilde"], {k: v["F_tilde"] for k, v in isolated.items()})
     assert summary["F_tilde"] == pytest.approx(isolated["cell's area"]["F_tilde"], rel=0.02)
     wide = isolated["wide"]
-    assert summary["F_tilde"] == pytest.approx(wide["F_tilde"], rel=5e-3)
-    assert summary["A2_over_A0"] == pytest.approx(wide["A2_over_A0"], rel=1e-3)
-    assert np.isclose(summary["V1_over_V0"], wide["V1_over_V0"], rtol=1e-3)
+    assert summary["F_tilde"] == pytest.approx(wide["F_tilde"], rel=wide_F)
+    assert summary["A2_over_A0"] == pytest.approx(wide["A2_over_A0"], rel=wide_AV)
+    assert np.isclose(summary["V1_over_V0"], wide["V1_over_V0"], rtol=wide_AV)
 
 
 @pytest.mark.slow
