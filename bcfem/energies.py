@@ -152,7 +152,7 @@ class WettedSubstrate:
         gamma = ctx.constant(self.name, self.gamma)
         if self.profile is not None:
             gamma = gamma * self.profile.shape(ctx.kin.r)
-        return ctx.kin.integral(gamma * ctx.kin.lam_theta * ctx.kin.dr, self.region)
+        return ctx.kin.integral(gamma * ctx.kin.projected_area_density, self.region)
 
 
 @dataclass(frozen=True)

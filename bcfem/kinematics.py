@@ -118,6 +118,12 @@ class AxisymmetricMembrane:
         return self.lam_r * self.lam_theta
 
     @property
+    def projected_area_density(self):
+        """The current surface's area projected on the plane z = 0, per reference area:
+        2 pi r r' dR over 2 pi R dR = lambda_theta r'."""
+        return self.lam_theta * self.dr
+
+    @property
     def volume_density(self):
         r"""Enclosed volume per reference area.
 

@@ -25,14 +25,29 @@ if TYPE_CHECKING:
 
 @runtime_checkable
 class Kinematics(Protocol):
-    """What every kinematics offers the terms: the one integral that applies the
-    axisymmetric weight 2πR. The quantities a term reads (``I1``, ``J``,
-    ``volume_density``, ``nanson()``, ...) depend on the body (membrane or solid)
-    and are documented on the concrete classes."""
+    """What every kinematics offers the terms: the one integral over the reference body (the
+    only place an axisymmetric weight 2πR is applied), and its mean.
+
+    The dimension-specific layer: a term reads only these members, so it acts unchanged on
+    every kinematics that offers them.
+
+    * membranes (:class:`bcfem.kinematics.AxisymmetricMembrane`,
+      :class:`bcfem.planar_membrane.PlanarMembrane`): ``I1``, ``area_stretch``,
+      ``volume_density``, ``projected_area_density``, ``reference_area``;
+    * solids (:class:`bcfem.solid.AxisymmetricSolid`, :class:`bcfem.solid_3d.Solid3D`):
+      ``F``, ``J``, ``I1``, ``height``, ``surface_integral``, ``surface_stretch``,
+      ``nanson()``, ``vertical_area()``, ``reference_volume``.
+
+    ``tests/test_kinematics_shared.py`` checks that one set of solid terms gives the same
+    energies on an axisymmetric body and on 3-D quarters of it."""
 
     def integral(self, density, region: int | None = None) -> ufl.Form:
         """``density`` (per unit reference area or volume) integrated over the
         reference body, or over the cells tagged ``region``."""
+        ...
+
+    def mean(self, density) -> ufl.Form:
+        """The reference mean of ``density`` (the arc-length inner product)."""
         ...
 
 
