@@ -1,4 +1,4 @@
-"""A step in the adhesion pins the debond front (issue 40: dgamma(R), eq. 10.1 axisymmetric).
+"""A step in the adhesion pins the debond front (dgamma(R), eq. 10.1 axisymmetric).
 
 Fig. 4.5's tensions (gamma_l = gamma_ls = 0.5 mu_f t0), neo-Hookean membrane, stiffness ratio
 mu_s R0/(mu_f t0) = 2, L = 10, default mesh, adhesive edge, one process:

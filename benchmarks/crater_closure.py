@@ -1,5 +1,5 @@
 """The hemisphere's closure under each difference between bcfem's model and the dissertation's
-(issue 39): docs/benchmarks/crater-closure.{csv,md}.
+docs/benchmarks/crater-closure.{csv,md}.
 
 Every variant is `bcfem run crater --preload closure` with one or more things changed: the bottom
 face in frictionless contact, no self-contact, no regulariser, the mesh, the elements (Q1-P0 on

@@ -1,4 +1,4 @@
-"""The double-chamber crater's model (issue #24): the crater model on the double geometry.
+"""The double-chamber crater's model: the crater model on the double geometry.
 
 * one sealed cavity before the sidewall meets the protuberance: Boyle's law holds to solver
   tolerance along a compression, on a frictionless and a sticking plate, the same on 1 and

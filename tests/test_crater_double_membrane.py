@@ -1,4 +1,4 @@
-"""The dissertation's double-chamber model (``--chambers membrane``, issue #39 item 5).
+"""The dissertation's double-chamber model (``--chambers membrane``).
 
 On a coarse isolated specimen, loaded to eps = 0.03 (after the protuberance meets the plate):
 

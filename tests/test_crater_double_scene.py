@@ -1,4 +1,4 @@
-"""The scene ``crater-double`` (issue #24): the chambers as state along a cycle.
+"""The scene ``crater-double``: the chambers as state along a cycle.
 
 A coarse cell of a confined array (outer face on rollers, radius 2 r0, height 2 H), where the
 sidewall reaches the protuberance at eps ~ 0.012:
