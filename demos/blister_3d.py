@@ -82,8 +82,11 @@ axisymmetric = branch_of(blister_rigid.build(blister_rigid.Params(material="neo-
 # %%
 wrinkles = {}
 for mode in ("taut", "relaxed"):
+    # the two paths coincide until the corners compress: steps of their own keep rank 0's
+    # progress lines distinct
+    steps = STEPS if mode == "relaxed" else ContinuationParams(ds=0.03, ds_max=0.05)
     scene = blister_3d.build(blister_3d.Params(outline="rectangle", aspect=4.0, size=SIZE, v_max=0.35,
-                                               wrinkles=mode), comm)
+                                               wrinkles=mode, continuation=steps), comm)
     branch, problem = trace(scene)
     problem.close()
     wrinkles[mode] = branch.rows[-1]
@@ -117,6 +120,10 @@ if comm.rank == 0:
         title = f"{name}: V/V0 = {0.35 if 'relaxed' in name else V_END}"
         stem = name.replace(" ", "_").replace(":", "x").replace(",", "")
         io.save_figure(membrane_figure(parts, title, colour), args.out / f"membrane_{stem}.png", MPI.COMM_SELF)
+io.write_csv(args.out / "curves.csv",
+             [{"outline": name, "V_over_V0": r["V_over_V0"], "P": r["P"], "aspect": r["aspect"],
+               "wrinkled_fraction": r["wrinkled_fraction"]} for name, rows in curves.items() for r in rows],
+             comm, columns=["outline", "V_over_V0", "P", "aspect", "wrinkled_fraction"])
 io.write_json(args.out / "numbers.json", {"P_max": {n: t["P"] for n, t in tops.items()},
                                           "V_at_P_max": {n: t["V_over_V0"] for n, t in tops.items()},
                                           "rectangle_4_at_0.35": wrinkles, "size": SIZE}, comm)

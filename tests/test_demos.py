@@ -24,6 +24,7 @@ BIN = Path(sys.executable).parent
 DEMOS = sorted(p for p in (Path(__file__).resolve().parents[1] / "demos").glob("*.py") if not p.name.startswith("_"))
 # files each demo must write into --out (any other demo must write a PNG and a CSV)
 EXPECTED = {
+    "blister_3d.py": ["pv.png", "membrane_circle.png", "curves.csv", "numbers.json"],
     "blister_theories.py": ["theories.png", "curves.csv", "summary.json"],
     "blister_surface_tension.py": ["surface_tension.png", "curves.csv", "summary.json"],
     "blister_sliding.py": ["sliding_fig3_7.png", "sliding_fig3_8.png", "sliding_fig3_10.png", "curves.csv",
