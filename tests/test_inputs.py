@@ -155,7 +155,9 @@ CHEAP = {"blister-rigid": ["--cells", "20", "--v-max", "1"],
          "crater-double": ["--size-wall", "0.16", "--size-contact", "0.04", "--preload", "0.05",
                            "--strain-step", "0.05"],
          "droplet-soft": ["--size-contact", "0.05"],
-         "blister-3d": ["--size", "0.25", "--v-max", "0.3"]}
+         "blister-3d": ["--size", "0.25", "--v-max", "0.3"],
+         "crater-cell": ["--size-wall", "0.5", "--size-rim", "0.2", "--size-far", "1.5", "--preload", "0.05",
+                         "--strain-step", "0.05"]}
 
 
 def run_to_a_status(argv: list[str], out) -> tuple[int, dict | None, str]:
