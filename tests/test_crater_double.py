@@ -90,6 +90,8 @@ def test_a_bottom_face_in_contact_keeps_boyle_and_its_slip(plate):
     """With the bottom face in contact (the gap under a lifted rim part of the cavity), the
     sealed gas keeps p V = p_a V_rest to solver tolerance, the sticking face does not slip and
     the frictionless one spreads as held; 2 ranks give the serial numbers."""
+    if plate == "sticking" and MPI.COMM_WORLD.size > 1:
+        pytest.skip("the 2-rank check runs on the frictionless plate (CI's time budget)")
     states, slip = sealed_compression(MPI.COMM_WORLD, plate, "contact")
     held, held_slip = serial(plate)
     print(plate, "(p/p_a, V/V_rest):", states, "held:", held, "bottom slip:", slip, held_slip)
