@@ -3,7 +3,7 @@ VENV  ?= .venv
 BIN   := $(VENV)/bin
 NP    ?= 2
 
-.PHONY: venv demo test test-all bench profile report clean
+.PHONY: venv demo test test-all study bench profile report clean
 
 venv:
 	@./tools/bootstrap.sh
@@ -23,8 +23,13 @@ test: venv
 # everything: adds full crater cycles, convergence studies and the demos (serial and on NP ranks)
 test-all: venv
 	$(BIN)/ruff check .
-	BCFEM_FULL_DRAW=1 $(PYTEST) -m "" --durations=20 tests
-	$(MPI_PYTEST) -m "mpi" tests
+	BCFEM_FULL_DRAW=1 $(PYTEST) -m "not study" --durations=20 tests
+	$(MPI_PYTEST) -m "mpi and not study" tests
+
+# checks of a minute or more each (contact cycles, plate contact in a cell): not in CI
+study: venv
+	$(PYTEST) -m study --durations=0 tests
+	$(MPI_PYTEST) -m "mpi and study" tests
 
 DEMOS := $(filter-out _%,$(basename $(notdir $(wildcard demos/*.py))))
 

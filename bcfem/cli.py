@@ -20,7 +20,6 @@ from bcfem.arguments import AxisSpec, build_parser, parse, split_petsc
 
 def main(argv: list[str] | None = None) -> int:
     from bcfem import interrupt
-
     interrupt.install(MPI.COMM_WORLD)  # first: a signal from here on ends with a status
     try:
         return _main(argv)
@@ -47,8 +46,8 @@ def _main(argv: list[str] | None) -> int:
     except ValueError as err:
         parser.exit(2, f"bcfem {args.command} {args.scene}: error: {err}\n" if MPI.COMM_WORLD.rank == 0 else "")
 
-    from bcfem import interrupt, log, options
-
+    from bcfem import interrupt, log
+    from bcfem.solver import options
     comm = MPI.COMM_WORLD
     log.configure(comm, quiet=args.quiet)
     options.insert_command_line(petsc)
@@ -70,8 +69,7 @@ def _say(comm, line: str) -> None:
 def _locked(parser, args, comm):
     """The output directory, created and locked inside; one that is no directory, or that
     another run holds, is bad input (exit 2, before any meshing)."""
-    from bcfem import outdir
-
+    from bcfem.run import outdir
     try:
         created = outdir.lock(args.out, comm)
     except outdir.OutDirError as err:
@@ -83,8 +81,8 @@ def _locked(parser, args, comm):
 
 
 def _run(parser, args, module, params, comm) -> int:
-    from bcfem import interrupt, runner
-
+    from bcfem import interrupt
+    from bcfem.run import runner
     name = f"bcfem run {args.scene}"
     with _locked(parser, args, comm):
         try:
@@ -124,7 +122,7 @@ def _profile(summary: dict) -> str:
 
 
 def _sweep(parser, args, module, params, comm) -> int:
-    from bcfem import sweep
+    from bcfem.run import sweep
     from bcfem.scenes import STUDIES
 
     studies = STUDIES[args.scene]

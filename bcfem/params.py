@@ -97,7 +97,7 @@ class ContinuationParams:
 
     The arc length is measured in a mesh-independent norm, the mean over the
     reference body of the squared states that measure it plus the squared load,
-    each over its typical size (:class:`bcfem.continuation.ArcLength`), so the
+    each over its typical size (:class:`bcfem.path.continuation.ArcLength`), so the
     same steps work on every mesh.
 
     Attributes:

@@ -30,7 +30,7 @@ def axisymmetric_reference() -> float:
     from mpi4py import MPI
 
     import bcfem  # noqa: F401
-    from bcfem.runner import branch_of
+    from bcfem.run.runner import branch_of
     from bcfem.scenes import blister_rigid
 
     values = []

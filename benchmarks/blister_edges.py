@@ -67,9 +67,9 @@ def worker(case: dict) -> dict:
     import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
-    from bcfem.continuation import ContinuationError
     from bcfem.log import configure
-    from bcfem.runner import branch_of
+    from bcfem.path.continuation import ContinuationError
+    from bcfem.run.runner import branch_of
     from bcfem.scenes import blister_rigid, blister_studies
 
     configure(MPI.COMM_WORLD, quiet=True)

@@ -62,10 +62,10 @@ def worker(case: dict) -> dict:
     from mpi4py import MPI
 
     from bcfem.params import ContinuationParams
-    from bcfem.problem import Problem
-    from bcfem.runner import trace
+    from bcfem.path.volume_control import VolumeControl
+    from bcfem.run.runner import trace
     from bcfem.scenes import blister_rigid
-    from bcfem.volume_control import VolumeControl
+    from bcfem.solver.problem import Problem
 
     t_import = time.perf_counter() - t0 + (t0 - T_START)
 
@@ -423,7 +423,7 @@ def markdown(rows, ref, args) -> str:
     scipy_cost = ref["imports"]["scipy.optimize"]
     L += ["Where the import goes (best of 3 fresh interpreters, one core): "
           + ", ".join(f"{k} {v:.2f} s" for k, v in ref["imports"].items())
-          + ". `bcfem.continuation` imports `scipy.optimize` at module level for `brentq` alone; a lazy "
+          + ". `bcfem.path.continuation` imports `scipy.optimize` at module level for `brentq` alone; a lazy "
           f"import (or a small Brent in bcfem) would take ~{scipy_cost:.2f} s off every run"
           + (f", e.g. the limit-point process above to ~{lp2['t_limit_process'] - scipy_cost:.2f} s." if lp2 else ".")
           + " It is not done here: the benchmark measures the library as it is.", ""]

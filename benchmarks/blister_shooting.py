@@ -227,9 +227,11 @@ def bcfem_phases(case: dict) -> dict:
     import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
-    from bcfem import log, options, runner
+    from bcfem import log
     from bcfem.arguments import build_parser
+    from bcfem.run import runner
     from bcfem.scenes import REGISTRY
+    from bcfem.solver import options
 
     module = REGISTRY["blister-rigid"]
     t1 = time.perf_counter()

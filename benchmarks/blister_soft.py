@@ -47,7 +47,7 @@ def worker(case: dict) -> dict:
 
     t1 = time.perf_counter()
     if case["scene"] == "rigid":
-        from bcfem.runner import branch_of
+        from bcfem.run.runner import branch_of
         from bcfem.scenes import blister_rigid
 
         params = blister_rigid.Params(material="neo-hookean", alpha=0.5, v_max=case["v_max"])

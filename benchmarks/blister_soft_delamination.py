@@ -65,7 +65,7 @@ def soft(edge: str, **extra):
 
 def traced(scene) -> tuple:
     """The branch and a note: None, or why it ends before V_MAX (its converged part is kept)."""
-    from bcfem.continuation import ContinuationError
+    from bcfem.path.continuation import ContinuationError
     from bcfem.scenes.blister_soft.path import trace
 
     try:
@@ -75,7 +75,7 @@ def traced(scene) -> tuple:
 
 
 def main() -> None:
-    from bcfem.runner import branch_of
+    from bcfem.run.runner import branch_of
     from bcfem.scenes import blister_rigid
     from bcfem.scenes.blister_soft.onset import critical_point, onset_by_energy
     from bcfem.scenes.blister_soft.path import trace

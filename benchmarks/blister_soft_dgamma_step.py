@@ -52,7 +52,7 @@ def soft(text: str, front: float | None = None):
 
 def rigid(text: str, front: float = float("inf")):
     from bcfem.radial_profile import parse
-    from bcfem.runner import branch_of
+    from bcfem.run.runner import branch_of
     from bcfem.scenes import blister_rigid
 
     params = blister_rigid.Params(material="neo-hookean", alpha=0.5, edge="adhesive", adhesion=parse(text),

@@ -14,7 +14,7 @@ import sys
 import time
 from pathlib import Path
 
-from bcfem.roots import bracketed_root  # dolfinx-free
+from bcfem.path.roots import bracketed_root  # dolfinx-free
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -56,7 +56,7 @@ def count_newton():
     Returns:
         (the running counts, a function that stops counting)
     """
-    from bcfem.problem import Problem
+    from bcfem.solver.problem import Problem
 
     count = {"solves": 0, "its": 0}
     solve = Problem.solve
@@ -160,7 +160,6 @@ def save_figure(fig, path: Path) -> None:
     from mpi4py import MPI
 
     from bcfem import io as bcfem_io
-
     bcfem_io.save_figure(fig, path, MPI.COMM_SELF)
 
 

@@ -95,7 +95,7 @@ def worker(case: dict) -> dict:
     from bcfem.scenes import crater
 
     configure(MPI.COMM_WORLD, quiet=True)
-    if case.get("petsc"):  # user options win over bcfem's (bcfem.options.merge)
+    if case.get("petsc"):  # user options win over bcfem's (bcfem.solver.options.merge)
         from petsc4py import PETSc
 
         PETSc.Options().insertString(case["petsc"])
@@ -472,7 +472,7 @@ def markdown(rows, refs, mpi, args) -> str:
          "the zero located by Brent). Time (`wall_time_s` in the CSV for one core) = mesh + forms + both stages; "
          "`t_process` adds interpreter start and `import bcfem`.",
          "* F~ = (1 - p2/pa) A2/A0. A2 = pi r_edge^2, r_edge where the crater wall leaves the plate, located "
-         "inside its element (`bcfem/contact_edge.py`; the tables of this file up to the section on A2 were "
+         "inside its element (`bcfem/contact/plate_edge.py`; the tables of this file up to the section on A2 were "
          "computed with the former rule, midway between the highest wall node on the plate and the next one off "
          "it). At eps = 0.2 only the rim node (the corner where the wall meets the bottom face) is on the plate, "
          "so A2 is the rim's current radius under either rule; V2/V0 (the crater volume, a boundary integral) "

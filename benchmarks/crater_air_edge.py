@@ -5,7 +5,7 @@ Measures, in one process (warm JIT cache, times of ``crater.solve``, not pinned)
 * F~ at eps = 0.2 over the meshes size_crater = 0.16 ... 0.035, on the scene's meshes
   (far-field element size max(0.5, size_crater) a, as ``bcfem run crater`` builds them) and
   on meshes refined everywhere (far-field size 4 size_crater a), with F~ both from the
-  contact edge located inside its element (:mod:`bcfem.contact_edge`, the scene's rule) and
+  contact edge located inside its element (:mod:`bcfem.contact.plate_edge`, the scene's rule) and
   from the former rule (midway between the highest wall node on the plate and the next one
   off it), the number of wall nodes on the plate at the end, the observed order and a
   Richardson reference;
@@ -139,7 +139,7 @@ def section(rows) -> str:
            f"bcfem @ {commit}{' with uncommitted changes in bcfem/' if dirty else ''}); it writes "
            "`crater-air-edge.csv` and this section.", "",
            "A2 = pi r_edge^2, where the crater wall leaves the plate. `F~` takes r_edge inside its element "
-           "(`bcfem/contact_edge.py`: g^(2/3) of the first three wall nodes off the plate, a quadratic in the arc "
+           "(`bcfem/contact/plate_edge.py`: g^(2/3) of the first three wall nodes off the plate, a quadratic in the arc "
            "length, extrapolated to zero, since the gap of a smooth frictionless edge grows as (s - s0)^(3/2); an "
            "edge at a corner stays at the corner's node). `F~ (midpoint)` is the former rule, midway between the "
            "highest wall node on the plate and the next one off it, evaluated on the same states. `on plate`: wall "

@@ -23,7 +23,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from bcfem.runner import SolveError
+from bcfem.run.runner import SolveError
 from bcfem.scenes import crater, crater_cell
 
 OUT = Path(__file__).resolve().parent.parent / "docs" / "figures" / "crater_cell"

@@ -28,7 +28,7 @@ import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem.io import read_csv
 from bcfem.log import configure
 from bcfem.mpi import PointEvaluator
-from bcfem.runner import SolveError
+from bcfem.run.runner import SolveError
 from bcfem.scenes import crater
 from bcfem.scenes.crater.model import Crater
 

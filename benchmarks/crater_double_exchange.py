@@ -32,7 +32,7 @@ from mpi4py import MPI
 
 from common import ROOT, atomic_text, csv_text, save_figure
 
-from bcfem.runner import solve
+from bcfem.run.runner import solve
 from bcfem.scenes.crater_double import Params
 from bcfem.scenes.crater_double.membrane import MembraneCycle, node_pair
 

@@ -12,7 +12,7 @@ Default crater (alpha = 1, beta = 0.467, air, gamma/(mu a) = 0.01, default mesh)
   0:0.5:0.025`), and the spread of stable end states at eps = 0.4 over load steps
   (`bcfem sweep crater --preload 0.4 --grid strain_step=0.005:0.02:4`);
 * the stable path against benchmarks/crater_regulariser.py's kept gamma = 0.01 series, which
-  took A2 at the midpoint between wall nodes (before bcfem/contact_edge.py): the sub-element
+  took A2 at the midpoint between wall nodes (before bcfem/contact/plate_edge.py): the sub-element
   edge's effect on F~ (`edge_rule_effect` in summary.json);
 * the section "paths" of docs/benchmarks/crater-air.md: the cost of the fundamental branch.
 

@@ -35,12 +35,12 @@ from common import count_newton
 from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assemble_jacobian, assemble_residual, assemble_vector, set_bc
 
-from bcfem import options
-from bcfem.energies import MembraneStrain
 from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
-from bcfem.runner import trace
+from bcfem.physics.energies import MembraneStrain
+from bcfem.run.runner import trace
 from bcfem.scenes import blister_rigid
+from bcfem.solver import options
 
 V0 = blister_rigid.V0
 NEWTON = {"snes_rtol": 1e-10, "snes_atol": 1e-10, "snes_stol": 1e-12, "ksp_type": "preonly",

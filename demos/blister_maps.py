@@ -75,10 +75,11 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-from bcfem import ContinuationParams, demo, io, sweep
-from bcfem.continuation import ContinuationError
+from bcfem import ContinuationParams, io
 from bcfem.log import logger
-from bcfem.runner import branch_of
+from bcfem.path.continuation import ContinuationError
+from bcfem.run import demo, sweep
+from bcfem.run.runner import branch_of
 from bcfem.scenes import blister_rigid, blister_studies
 
 # %% [markdown]

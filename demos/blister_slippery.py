@@ -56,8 +56,9 @@ from mpi4py import MPI
 import numpy as np
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-from bcfem import ContinuationParams, demo, io
-from bcfem.runner import branch_of
+from bcfem import ContinuationParams, io
+from bcfem.run import demo
+from bcfem.run.runner import branch_of
 from bcfem.scenes import blister_rigid, blister_studies
 
 # %% [markdown]

@@ -48,8 +48,9 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-from bcfem import ContinuationParams, demo, io
-from bcfem.runner import branch_of
+from bcfem import ContinuationParams, io
+from bcfem.run import demo
+from bcfem.run.runner import branch_of
 from bcfem.scenes import blister_rigid
 
 # %% [markdown]

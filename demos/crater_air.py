@@ -56,7 +56,7 @@
 # Runtime: the default grid is four preloads (CI, serial and `mpirun -n 2`);
 # `--full` solves the figure's grid $\varepsilon = 0.025, 0.05, \dots, 0.5$
 # ($\varepsilon = 0$ is the rest state). Points are spread over the MPI ranks
-# by `bcfem.sweep` (each a serial solve) and kept under `--out/sweeps`, so a
+# by `bcfem.run.sweep` (each a serial solve) and kept under `--out/sweeps`, so a
 # rerun, or `--full` after the default grid, reuses them.
 
 # %%
@@ -71,7 +71,8 @@ from mpi4py import MPI
 import numpy as np
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-from bcfem import demo, io, sweep
+from bcfem import io
+from bcfem.run import demo, sweep
 from bcfem.scenes import crater
 from bcfem.scenes.crater import frames as crater_frames
 from bcfem.theory.crater import eshelby_air as eshelby

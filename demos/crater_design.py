@@ -41,7 +41,7 @@
 #
 # Fig. 7.11b's classes are the dissertation's wrinkles, i.e. symmetry breaking: its map
 # checks the non-axisymmetric modes n = 1..20 after every step (`waves = 20`,
-# `bcfem/modes.py`) and is coloured by `stability_waves`; `stability` (axisymmetric
+# `bcfem/stability/modes.py`) and is coloured by `stability_waves`; `stability` (axisymmetric
 # modes and snaps) is in the CSV too.
 
 # %%
@@ -54,7 +54,8 @@ from mpi4py import MPI
 import numpy as np
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
-from bcfem import demo, io, sweep
+from bcfem import io
+from bcfem.run import demo, sweep
 from bcfem.scenes import crater
 from bcfem.scenes.crater import frames as crater_frames
 
@@ -135,7 +136,7 @@ def command(name: str) -> str:
 # %% [markdown]
 # ## Solve the maps
 #
-# `bcfem.sweep.run_pool` spreads the points of all maps over the ranks as one pool
+# `bcfem.run.sweep.run_pool` spreads the points of all maps over the ranks as one pool
 # (each point a serial cycle, `crater.sweep_point`), so no rank waits for the last
 # point of one map, and records a failed point with its reason.
 

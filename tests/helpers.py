@@ -58,7 +58,6 @@ def refused(*args, out) -> str:
     import pytest
 
     from bcfem import cli
-
     stderr = io.StringIO()
     with contextlib.redirect_stderr(stderr), contextlib.redirect_stdout(io.StringIO()):
         with pytest.raises(SystemExit) as exit_:

@@ -7,11 +7,11 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from bcfem.problem import Problem
-from bcfem.runner import trace
+from bcfem.path.volume_control import VolumeControl
+from bcfem.run.runner import trace
 from bcfem.scenes import blister_rigid
+from bcfem.solver.problem import Problem
 from bcfem.theory import membrane
-from bcfem.volume_control import VolumeControl
 
 
 def branch_of(**kwargs):

@@ -22,8 +22,8 @@ from test_terms import assert_second_order, taylor
 
 from bcfem import global_sum
 from bcfem.io import read_csv
-from bcfem.problem import Problem
 from bcfem.scenes import blister_soft
+from bcfem.solver.problem import Problem
 
 pytestmark = pytest.mark.mpi
 

@@ -161,7 +161,7 @@ def test_rigid_limit_of_the_onset_for_any_interface_energies(gamma_ls, delta_gam
     at least 5 per decade, O(1/ratio)) to better than 1e-3 at 1e5, on Fig. 3.14's difference 2.5
     (onset V/V0 = 3.064, where the release rate is flat in V) and on 0; and at 1e5 shifting both
     energies by 2 leaves it (to the O(gamma/ratio) the substrate's own surface stress moves it)."""
-    from bcfem.runner import branch_of
+    from bcfem.run.runner import branch_of
     from bcfem.scenes import blister_rigid
 
     rigid = branch_of(blister_rigid.build(blister_rigid.Params(

@@ -216,7 +216,7 @@ def test_two_ranks_equal_serial_through_a_step(tmp_path):
 
 
 def rigid_rows(adhesion, stop_radius):
-    from bcfem.runner import branch_of
+    from bcfem.run.runner import branch_of
     from bcfem.scenes import blister_rigid
 
     params = blister_rigid.Params(material="neo-hookean", alpha=0.5, edge="adhesive", adhesion=adhesion, v_max=1.0,

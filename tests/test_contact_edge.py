@@ -1,4 +1,4 @@
-"""The contact edge inside an element (:mod:`bcfem.contact_edge`): closed-form Hertz and
+"""The contact edge inside an element (:mod:`bcfem.contact.plate_edge`): closed-form Hertz and
 flat-punch gaps sampled on P2 node layouts, the gather over ranks, and the crater's F~ at
 eps = 0.2 over meshes (``convergence``)."""
 
@@ -12,7 +12,7 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from bcfem.contact_edge import edge_radius, plate_edge
+from bcfem.contact.plate_edge import edge_radius, plate_edge
 
 
 def hertz_gap(r, c, R=1.0):

@@ -19,7 +19,7 @@ import ufl
 from dolfinx import fem, mesh
 
 from bcfem import ArcLength, Context, ContinuationParams, Problem, Switch, global_sum, real_value
-from bcfem.solid import AxisymmetricSolid
+from bcfem.kinematics.solid import AxisymmetricSolid
 
 PARAMS = ContinuationParams(ds=0.05, ds_max=0.2, event_tol=1e-11)
 #: the fold-location bar: limit points and events to 1e-10 in the state

@@ -9,7 +9,7 @@ from mpi4py import MPI
 import pytest
 from helpers import bcfem, refused
 
-from bcfem.cavitation import BISECTIONS
+from bcfem.physics.cavitation import BISECTIONS
 from bcfem.scenes import crater
 from bcfem.theory.crater import eshelby_air, eshelby_liquid
 

@@ -182,9 +182,9 @@ def test_a_failed_cycle_is_traced_again_with_bounded_steps(monkeypatch):
     """The control flow of the retrace (the real failures it saves take minutes each): a
     cycle that gets through is traced once, with full Newton steps; one that fails is traced
     again, carefully, and says why; a second failure names both, and the run says failed."""
-    from bcfem.runner import SolveError
+    from bcfem.path.stepping import SteppingError
+    from bcfem.run.runner import SolveError
     from bcfem.scenes.crater.stages import CraterCycle
-    from bcfem.stepping import SteppingError
 
     calls = []
 

@@ -20,7 +20,7 @@ from mpi4py import MPI
 import pytest
 from helpers import refused
 
-from bcfem.runner import solve
+from bcfem.run.runner import solve
 from bcfem.scenes import crater_double
 from bcfem.scenes.crater_double.membrane import MembraneCycle
 
@@ -48,9 +48,9 @@ def test_the_plug_closes_the_chambers():
     (r_b, z_b), (r0, Z_w), (r0, Z_w') to V_C1: 2 pi r_centroid times its area."""
     import numpy as np
 
-    from bcfem.chamber_membrane import ChamberMembrane
     from bcfem.geometry.double_crater import SIDEWALL
     from bcfem.mpi import global_sum
+    from bcfem.scenes.crater_double.chamber_membrane import ChamberMembrane
     from bcfem.scenes.crater_double.model import DoubleCrater
 
     model = DoubleCrater(COARSE, MPI.COMM_SELF)

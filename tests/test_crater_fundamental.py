@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from helpers import same_loads
 
-from bcfem.runner import SolveError
+from bcfem.run.runner import SolveError
 from bcfem.scenes import crater
 
 COARSE = dict(size_crater=0.12)

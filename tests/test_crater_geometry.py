@@ -92,8 +92,8 @@ def test_current_cavity_volume_under_an_affine_map(stretch_r, stretch_z):
     """Nanson's formula on the crater wall: an affine map scales the cavity by lr^2 lz."""
     import numpy as np
 
-    from bcfem.cavity import Cavity
-    from bcfem.solid import AxisymmetricSolid
+    from bcfem.kinematics.solid import AxisymmetricSolid
+    from bcfem.physics.cavity import Cavity
 
     geometry = CraterGeometry(alpha=0.7)
     data = create_mesh(geometry, MPI.COMM_WORLD)
@@ -111,9 +111,9 @@ def test_wall_surface_energy_is_gamma_times_current_area(alpha, stretch):
     scaled by stretch^2 under a uniform dilation."""
     import numpy as np
 
-    from bcfem.context import Context
-    from bcfem.energies import SolidSurfaceEnergy
-    from bcfem.solid import AxisymmetricSolid
+    from bcfem.kinematics.solid import AxisymmetricSolid
+    from bcfem.physics.context import Context
+    from bcfem.physics.energies import SolidSurfaceEnergy
 
     geometry = CraterGeometry(alpha=alpha)
     data = create_mesh(geometry, MPI.COMM_WORLD)

@@ -65,10 +65,9 @@ def test_demos_found():
 
 
 def test_every_demo_takes_the_common_flags():
-    """Each demo parses its command line with ``bcfem.demo.setup`` alone (no flags of its own),
+    """Each demo parses its command line with ``bcfem.run.demo.setup`` alone (no flags of its own),
     whose parser has --out, --quiet, --full and --refine."""
-    from bcfem import demo
-
+    from bcfem.run import demo
     options = {a for action in demo.parser("x", "x", "f", "r")._actions for a in action.option_strings}
     assert set(demo.FLAGS) <= options
     for path in DEMOS:

@@ -13,8 +13,6 @@ import ufl
 from dolfinx import fem
 from dolfinx.mesh import entities_to_geometry
 
-from bcfem.cavity import Cavity
-from bcfem.chambers import ChamberSplit, plug_flux
 from bcfem.geometry.double_crater import (
     AXIS,
     BOTTOM,
@@ -34,8 +32,10 @@ from bcfem.geometry.double_crater import (
     cap_volume,
     create_mesh,
 )
+from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.mpi import global_sum
-from bcfem.solid import AxisymmetricSolid
+from bcfem.physics.cavity import Cavity
+from bcfem.scenes.crater_double.chambers import ChamberSplit, plug_flux
 
 DEFAULT = DoubleCraterGeometry()
 # the centre above the roof (a cap smaller than a hemisphere), and another scale with a wide crater
@@ -298,8 +298,8 @@ def test_sidewall_band_under_a_shear_is_its_closed_form():
 def test_each_chamber_holds_its_own_gas():
     """Two ideal gases, one per chamber (sealed apart, each with its own pressure and amount),
     in one model: each pressure's row is Boyle's law of its own chamber, zero at p_i = n_i / V_i."""
-    from bcfem.context import Context
-    from bcfem.fluids import IdealGas
+    from bcfem.physics.context import Context
+    from bcfem.physics.fluids import IdealGas
 
     g = DEFAULT
     data = mesh_of(g)

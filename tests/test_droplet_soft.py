@@ -19,13 +19,13 @@ import pytest
 from dolfinx import fem
 from helpers import bcfem, refused
 
-from bcfem.context import Context
 from bcfem.geometry.substrate import WETTED, SubstrateGeometry, create_mesh
-from bcfem.linear_solid import LinearDropLoads, LinearElasticity, SubstrateKinematics
 from bcfem.mpi import global_sum
-from bcfem.problem import Problem
+from bcfem.physics.context import Context
+from bcfem.physics.linear_solid import LinearDropLoads, LinearElasticity, SubstrateKinematics
+from bcfem.physics.sessile_drop import SphericalCapDrop, cap_volume
 from bcfem.scenes import droplet_soft as ds
-from bcfem.sessile_drop import SphericalCapDrop, cap_volume
+from bcfem.solver.problem import Problem
 from bcfem.theory import ridge
 
 COARSE = {"size_contact": 0.01}

@@ -15,14 +15,14 @@ import numpy as np
 import pytest
 from dolfinx import fem, mesh
 
-from bcfem.cavity import Cavity
-from bcfem.context import Context
-from bcfem.energies import SolidStrain, SolidSurfaceEnergy
-from bcfem.fluids import IdealGas
-from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.kinematics.solid import AxisymmetricSolid
+from bcfem.kinematics.solid_3d import Solid3D
 from bcfem.mpi import global_sum
-from bcfem.solid import AxisymmetricSolid
-from bcfem.solid_3d import Solid3D
+from bcfem.physics.cavity import Cavity
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.physics.fluids import IdealGas
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
 
 pytestmark = pytest.mark.mpi  # equal on 2 ranks: the sums go through global_sum
 

@@ -36,9 +36,9 @@ from dolfinx import default_scalar_type, fem, graph, mesh
 
 import bcfem  # noqa: F401  (first: MPI before dolfinx, when run as a script)
 from bcfem import Context, global_sum, real_value
-from bcfem.problem import Problem
-from bcfem.solid import AxisymmetricSolid
-from bcfem.submesh import BoundaryPatch
+from bcfem.kinematics.solid import AxisymmetricSolid
+from bcfem.kinematics.submesh import BoundaryPatch
+from bcfem.solver.problem import Problem
 
 pytestmark = pytest.mark.mpi
 

@@ -1,4 +1,4 @@
-"""Fourier-mode stability of axisymmetric states (bcfem.modes) against closed forms:
+"""Fourier-mode stability of axisymmetric states (bcfem.stability.modes) against closed forms:
 Euler buckling of a column (n = 1) and Biot's surface instability (n large)."""
 
 import math
@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 from dolfinx import fem, mesh
 
-from bcfem.context import Context
-from bcfem.energies import SolidStrain
-from bcfem.materials import NearlyIncompressibleNeoHookean
-from bcfem.modes import ModeAnalysis
+from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.mpi import PointEvaluator
-from bcfem.problem import Problem
-from bcfem.solid import AxisymmetricSolid
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.solver.problem import Problem
+from bcfem.stability.modes import ModeAnalysis
 
 pytestmark = pytest.mark.mpi
 

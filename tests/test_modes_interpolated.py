@@ -1,4 +1,4 @@
-"""The Fourier-mode block is quadratic in the wave number n (bcfem.modes): a scan that
+"""The Fourier-mode block is quadratic in the wave number n (bcfem.stability.modes): a scan that
 interpolates it from three wave numbers gives the matrices and the counts of assembling
 each n."""
 

@@ -16,8 +16,8 @@ from dolfinx import fem, mesh
 from dolfinx.fem.petsc import NonlinearProblem
 
 from bcfem import Context
-from bcfem.problem import Problem
-from bcfem.protocols import DiscreteTerm
+from bcfem.physics.protocols import DiscreteTerm
+from bcfem.solver.problem import Problem
 
 pytestmark = pytest.mark.mpi
 

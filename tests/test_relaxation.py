@@ -1,11 +1,11 @@
-"""Pseudo-time relaxation (bcfem.relaxation.relax) on a one-unknown body falling to u = 1:
+"""Pseudo-time relaxation (bcfem.path.relaxation.relax) on a one-unknown body falling to u = 1:
 more viscosity for a failed step first, the line-search fallbacks only where that gives up."""
 
 from types import SimpleNamespace
 
 import numpy as np
 
-from bcfem.relaxation import relax
+from bcfem.path.relaxation import relax
 
 
 class Falling:

@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from bcfem.roots import bracketed_root
+from bcfem.path.roots import bracketed_root
 
 
 @pytest.mark.parametrize("f, a, b, root", [

@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 from helpers import BIN, bcfem
 
-from bcfem import interrupt, io, sweep
+from bcfem import interrupt, io
+from bcfem.run import sweep
 from bcfem.scenes import blister_rigid, blister_studies
 
 TINY = ["run", "blister-rigid", "--cells", "20", "--v-max", "0.5", "--quiet"]
@@ -213,12 +214,12 @@ def test_json_is_strict_and_reads_back(tmp_path):
 
 @pytest.mark.serial
 def test_an_internal_error_is_a_failed_status_not_a_traceback(tmp_path, in_process, monkeypatch, capsys):
-    import bcfem.runner
+    import bcfem.run.runner
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("injected")
 
-    monkeypatch.setattr(bcfem.runner, "trace", broken)
+    monkeypatch.setattr(bcfem.run.runner, "trace", broken)
     out = tmp_path / "bug"
     assert in_process([*TINY, "--out", str(out)]) == 1
     stderr = capsys.readouterr().err

@@ -1,4 +1,4 @@
-"""Self-contact (bcfem.self_contact): exact derivatives, and two blocks pressed together."""
+"""Self-contact (bcfem.contact.self_contact): exact derivatives, and two blocks pressed together."""
 
 import math
 
@@ -10,14 +10,14 @@ import ufl
 from dolfinx import fem
 from helpers import exact_nominal_stress
 
-from bcfem.context import Context
-from bcfem.energies import SolidStrain
-from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.contact.self_contact import WallSelfContact, gap, gap_derivatives
+from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.mpi import global_sum
-from bcfem.problem import Problem
-from bcfem.protocols import DiscreteTerm, Term, find_term
-from bcfem.self_contact import WallSelfContact, gap, gap_derivatives
-from bcfem.solid import AxisymmetricSolid
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.physics.protocols import DiscreteTerm, Term, find_term
+from bcfem.solver.problem import Problem
 
 RADIUS, LOWER, SLOT, UPPER = 1.0, 1.0, 0.05, 1.5
 SIZES = (0.25, 0.18)  # the two blocks' meshes do not match at the contact
@@ -518,7 +518,7 @@ def test_search_finds_every_pair_on_the_slot():
 def test_a_bonded_pair_acts_whatever_its_gap_and_is_never_counted_twice():
     """WallSelfContact.bond (non-separable contact): a bonded pair is in the pairs with its
     signed gap wherever it is, and a bonded pair the search finds anyway appears once."""
-    from bcfem.gap import gap
+    from bcfem.contact.gap import gap
 
     apart = folded(0.5, tilt=0.0)  # runs 0.5 apart: nothing within a quarter segment
     term = chain(apart)

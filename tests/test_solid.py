@@ -10,13 +10,13 @@ import ufl
 from dolfinx import fem, mesh
 from helpers import exact_nominal_stress
 
-from bcfem.bcs import component, where
-from bcfem.context import Context
-from bcfem.energies import SolidStrain
-from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.mpi import global_sum
-from bcfem.problem import Problem
-from bcfem.solid import AxisymmetricSolid
+from bcfem.physics.bcs import component, where
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.solver.problem import Problem
 
 pytestmark = pytest.mark.mpi
 RADIUS, HEIGHT = 1.0, 2.0
@@ -120,7 +120,7 @@ def inflate_shell(h: float, comm=MPI.COMM_WORLD) -> tuple[float, float]:
     times the cavity's current volume, closed by the symmetry plane z = 0). Returns the
     errors of the cavity volume (relative) and of the displacement (L2 over the meridian,
     relative to the exact solution's norm)."""
-    from bcfem.cavity import Cavity
+    from bcfem.physics.cavity import Cavity
 
     data = hemispherical_shell(h, comm)
     msh, facets = data.mesh, data.facet_tags

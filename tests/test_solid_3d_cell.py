@@ -2,7 +2,7 @@
 
 A quarter of a square prism (mirror faces x = 0, y = 0; the cell's side faces x = y = L/2
 stay planes) is pressed by a platen. The platen's strain w and the lateral macroscopic strain e
-enter as the lift u = ũ + e (x, y, 0) + w (0, 0, z) of :class:`bcfem.solid_3d.Solid3D`, with
+enter as the lift u = ũ + e (x, y, 0) + w (0, 0, z) of :class:`bcfem.kinematics.solid_3d.Solid3D`, with
 ũ held normal to every face: w is prescribed, e is a global unknown whose residual is the mean
 lateral traction, zero. An uncratered cell is then in uniform uniaxial stress: e = (1 − ε)^(−1/2)
 − 1 for an incompressible solid and the platen's nominal stress μ(λ − λ⁻²), λ = 1 − ε.
@@ -15,13 +15,13 @@ import pytest
 import ufl
 from dolfinx import fem, mesh
 
-from bcfem.bcs import component, where
-from bcfem.context import Context
-from bcfem.energies import SolidStrain
-from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.kinematics.solid_3d import Solid3D
 from bcfem.mpi import global_sum, real_value
-from bcfem.problem import Problem
-from bcfem.solid_3d import Solid3D
+from bcfem.physics.bcs import component, where
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.solver.problem import Problem
 
 pytestmark = pytest.mark.mpi
 HALF = 0.5  # the cell's half-width; height 1

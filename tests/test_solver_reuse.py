@@ -7,8 +7,8 @@ from petsc4py import PETSc
 import numpy as np
 import pytest
 
-from bcfem.newton_cycles import RepeatedIterates
-from bcfem.reduced_lu import ReducedLU
+from bcfem.solver.newton_cycles import RepeatedIterates
+from bcfem.solver.reduced_lu import ReducedLU
 
 
 def scalar_snes(residual, derivative, comm=MPI.COMM_SELF, max_it=25):

@@ -8,12 +8,12 @@ from mpi4py import MPI
 
 import pytest
 
-from bcfem.energies import MembraneStrain
-from bcfem.problem import Problem
-from bcfem.protocols import find_term
+from bcfem.path.volume_control import VolumeControl
+from bcfem.physics.energies import MembraneStrain
+from bcfem.physics.protocols import find_term
 from bcfem.scenes import blister_rigid
-from bcfem.stability import unstable_modes
-from bcfem.volume_control import VolumeControl
+from bcfem.solver.problem import Problem
+from bcfem.stability.inertia import unstable_modes
 
 pytestmark = pytest.mark.mpi
 FOLD = 0.667656  # V/V0 of the neo-Hookean pressure maximum (tests/test_blister_rigid.py, P2/200)
@@ -78,7 +78,7 @@ def test_kept_inertia_matches_a_fresh_count_and_analyses_a_new_pattern_again():
     contact) makes the copy and the analysis afresh."""
     import numpy as np
 
-    from bcfem.stability import TangentInertia, negative_eigenvalues
+    from bcfem.stability.inertia import TangentInertia, negative_eigenvalues
 
     signs = np.array([1.0, -2.0, 3.0, -4.0, 5.0, 6.0, -7.0, 8.0])
     kept = TangentInertia("test_kept_inertia_")

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from bcfem.stepping import LoadPath, SteppingError
+from bcfem.path.stepping import LoadPath, SteppingError
 
 
 class Quadratic:
@@ -47,7 +47,7 @@ def test_rewind_restores_state_load_snaps_and_events():
 def test_waves_events_and_their_rewind(monkeypatch):
     """A waves check reports each change of the set of unstable n, and whether some n has
     more unstable modes than the axisymmetric count; rewinding restores the set."""
-    import bcfem.stepping as stepping
+    import bcfem.path.stepping as stepping
 
     problem = Quadratic()
     monkeypatch.setattr(stepping, "unstable_modes", lambda p, multipliers, held=(): int(p.load >= 0.3 - 1e-12))
@@ -71,7 +71,7 @@ def test_waves_events_and_their_rewind(monkeypatch):
 def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
     """Relaxation goes to a full first step beyond the last accepted state whatever the cut, so
     once it failed from that state it would fail again: further cuts only retry Newton."""
-    import bcfem.stepping as stepping
+    import bcfem.path.stepping as stepping
 
     class Wall(Quadratic):
         failure = "SNES reason -5"  # iteration limit
@@ -246,7 +246,7 @@ def test_root_past_a_snap_continues_on_the_branch_fallen_onto(monkeypatch):
     """f = 0.23 - u vanishes at 0.23 on branch B, which the path fell onto by a relaxation
     between the mark (0.3, branch A) and 0.2: each evaluation follows A from the mark while
     A lasts and B from 0.2 below it, without relaxing again, and the path ends on B."""
-    import bcfem.stepping as stepping
+    import bcfem.path.stepping as stepping
 
     relaxations = []
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from helpers import bcfem, refused
 
-from bcfem import sweep
+from bcfem.run import sweep
 from bcfem.scenes import blister_rigid, blister_studies
 
 GRID = ["sweep", "blister-rigid", "--grid", "alpha=0:2:2", "--grid", "adhesion=1:4:2",
@@ -99,7 +99,7 @@ def test_a_larger_budget_retries_only_the_points_that_ran_out(tmp_path):
 SLOW_FIRST = """
 import json, sys, time
 from mpi4py import MPI
-from bcfem import sweep
+from bcfem.run import sweep
 from bcfem.scenes import blister_rigid
 
 def solve(params, comm):
@@ -141,7 +141,7 @@ SLOW_LAST_THEN_ANOTHER = """
 import json, sys, time
 from pathlib import Path
 from mpi4py import MPI
-from bcfem import sweep
+from bcfem.run import sweep
 from bcfem.scenes import blister_rigid
 
 def solve(params, comm):

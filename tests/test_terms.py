@@ -5,7 +5,7 @@ Every term of the library is here (:func:`test_the_battery_covers_every_term`):
 * its value at a configuration where the energy is known in closed form (a
   uniform stretch of the membrane or a homogeneous deformation of a small
   axisymmetric solid, whose cavity below is a cylinder);
-* Taylor tests through a :class:`bcfem.problem.Problem` holding the term
+* Taylor tests through a :class:`bcfem.solver.problem.Problem` holding the term
   alone, in all its states (displacement and multipliers): the assembled
   residual is the derivative of the energy and the assembled tangent that of
   the residual (remainders O(e^2): rate 2 when e halves);
@@ -34,19 +34,17 @@ from bcfem import (
     PressureVolume,
     SurfaceTension,
     Term,
-    energies,
     find_term,
-    fluids,
     global_sum,
-    relaxation,
 )
-from bcfem.cavity import Cavity
-from bcfem.energies import SolidStrain, SolidSurfaceEnergy, WettedSubstrate
-from bcfem.fluids import HeldPressure, IdealGas, IncompressibleLiquid, Vacuum
-from bcfem.materials import NearlyIncompressibleNeoHookean
-from bcfem.problem import Problem
-from bcfem.relaxation import Viscosity
-from bcfem.solid import AxisymmetricSolid
+from bcfem.kinematics.solid import AxisymmetricSolid
+from bcfem.physics import energies, fluids, viscosity
+from bcfem.physics.cavity import Cavity
+from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy, WettedSubstrate
+from bcfem.physics.fluids import HeldPressure, IdealGas, IncompressibleLiquid, Vacuum
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.physics.viscosity import Viscosity
+from bcfem.solver.problem import Problem
 
 pytestmark = pytest.mark.mpi
 
@@ -109,7 +107,7 @@ CONSTANTS = {"volume_target": 0.3, "viscosity": 1.7, "vacuum_load": 0.6}
 # -- the battery covers the library ----------------------------------------------------------
 def library_terms():
     """Every class of the term modules that has an energy."""
-    return {cls for module in (energies, fluids, relaxation) for _, cls in inspect.getmembers(module, inspect.isclass)
+    return {cls for module in (energies, fluids, viscosity) for _, cls in inspect.getmembers(module, inspect.isclass)
             if cls.__module__ == module.__name__ and hasattr(cls, "energy")}
 
 

@@ -15,7 +15,7 @@ a_n = sqrt(h (2 R0 - h)). At rest the cavity's volume is
 
 Under compression the sidewall bulges onto the protuberance, closest to it at
 the height of the ball's equator, which splits the cavity into the chamber C1
-on the plate and the chamber C2 under the roof (:mod:`bcfem.chambers`).
+on the plate and the chamber C2 under the roof (:mod:`bcfem.scenes.crater_double.chambers`).
 
 Geometry is second order (``order=2``) so that the arcs, and hence volumes,
 are exact up to the quadratic interpolation of the circle. Built with the

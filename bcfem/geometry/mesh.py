@@ -27,7 +27,6 @@ def distribute(build_model: Callable[[], None], comm, msh_file=None, gdim: int =
     from dolfinx.io import gmsh as gmshio
 
     from bcfem import interrupt
-
     error = None
     if comm.rank == 0:
         gmsh.initialize(interruptible=False)

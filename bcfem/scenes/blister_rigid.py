@@ -24,17 +24,17 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from bcfem.context import Context
-from bcfem.continuation import Switch
-from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
-from bcfem.kinematics import AxisymmetricMembrane
-from bcfem.materials import MATERIALS, Gent, NeoHookean
+from bcfem.kinematics.membrane import AxisymmetricMembrane
 from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, global_sum, real_value, sample
 from bcfem.params import Bound, ContinuationParams, check_bounds, require
-from bcfem.protocols import find_term
+from bcfem.path.continuation import Switch
+from bcfem.physics.context import Context
+from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension
+from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
+from bcfem.physics.protocols import find_term
 from bcfem.radial_profile import RadialProfile, check_resolved, shape_of
 from bcfem.radial_profile import parse as parse_profile
-from bcfem.scene import Scene
+from bcfem.run.scene import Scene
 from bcfem.scenes.membrane_edges import EDGES, domain
 from bcfem.theory.membrane import droplet, droplet_angle_from_volume, simple_membrane_pressure
 

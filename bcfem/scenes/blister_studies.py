@@ -7,7 +7,7 @@ at the onset point itself, which is where a map point stops.
 
 Map points and fit evaluations that differ only in the run-time parameters
 (``blister_rigid.RUN_TIME``: alpha, adhesion, ...) trace one composed blister again
-(:mod:`bcfem.session`); :func:`reusing` scopes that, and the sessions are closed at exit.
+(:mod:`bcfem.run.session`); :func:`reusing` scopes that, and the sessions are closed at exit.
 """
 
 from __future__ import annotations
@@ -17,13 +17,13 @@ from dataclasses import asdict, replace
 
 from dolfinx import fem
 
-from bcfem.continuation import ContinuationError
 from bcfem.mpi import global_sum, real_value
 from bcfem.params import Bound, require
-from bcfem.problem import Problem
+from bcfem.path.continuation import ContinuationError
+from bcfem.path.volume_control import VolumeControl
+from bcfem.run.session import Sessions
 from bcfem.scenes.blister_rigid import V0, Params, build, compose, scene_for, structure
-from bcfem.session import Sessions
-from bcfem.volume_control import VolumeControl
+from bcfem.solver.problem import Problem
 
 #: the blister of the last structure traced by this process's map points and fits
 _sessions = Sessions()

@@ -1,5 +1,5 @@
 """The crater's suction cycle on a 3-D quarter of its specimen (:mod:`bcfem.geometry.crater_sector`):
-the axisymmetric crater's terms on :class:`bcfem.solid_3d.Solid3D`, the first brick of the 3-D
+the axisymmetric crater's terms on :class:`bcfem.kinematics.solid_3d.Solid3D`, the first brick of the 3-D
 crater cells.
 
 Vented loading to the preload, the crater sealed there with air at p_a, unloading to eps = 0
@@ -20,16 +20,16 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from bcfem.bcs import component
-from bcfem.cavity import Cavity
-from bcfem.context import Context
-from bcfem.energies import SolidStrain
-from bcfem.fluids import IdealGas
 from bcfem.geometry.crater_sector import BOTTOM, MIRROR_X, MIRROR_Y, TOP, WALL, CraterSector, create_mesh
-from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.kinematics.solid_3d import Solid3D
 from bcfem.mpi import global_sum, real_value
-from bcfem.problem import Problem
-from bcfem.solid_3d import Solid3D
+from bcfem.physics.bcs import component
+from bcfem.physics.cavity import Cavity
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain
+from bcfem.physics.fluids import IdealGas
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.solver.problem import Problem
 
 #: the quarter's share of the specimen
 SHARE = 4

@@ -30,9 +30,9 @@ import numpy as np
 import ufl
 from dolfinx import fem, mesh
 
-from bcfem.bcs import component, where
-from bcfem.energies import WettedSubstrate
-from bcfem.kinematics import scaled, two_zone
+from bcfem.kinematics.membrane import scaled, two_zone
+from bcfem.physics.bcs import component, where
+from bcfem.physics.energies import WettedSubstrate
 from bcfem.radial_profile import scale_of, shape_of
 
 

@@ -11,7 +11,7 @@ from bcfem.scenes.blister_3d.params import COLUMNS, DESCRIPTION, SUMMARY, Params
 
 
 def build(params: Params, comm, extra_terms=()):
-    """The blister of ``params``, for :mod:`bcfem.runner`."""
+    """The blister of ``params``, for :mod:`bcfem.run.runner`."""
     from bcfem.scenes.blister_3d.model import build as compose
 
     return compose(params, comm, extra_terms)

@@ -1,6 +1,6 @@
 """The three-dimensional blister: a membrane on its flat reference outline, clamped along
 it, inflated at a pressure traced by arc-length (the terms of ``blister-rigid`` on
-:class:`bcfem.planar_membrane.PlanarMembrane` kinematics)."""
+:class:`bcfem.kinematics.planar_membrane.PlanarMembrane` kinematics)."""
 
 from __future__ import annotations
 
@@ -12,11 +12,11 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from bcfem.context import Context
-from bcfem.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.geometry.outline import EDGE, create_mesh
+from bcfem.kinematics.planar_membrane import PlanarMembrane
 from bcfem.mpi import cell_maximum, global_sum, real_value
-from bcfem.planar_membrane import PlanarMembrane
+from bcfem.physics.context import Context
+from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.scenes.blister_3d.params import COLUMNS, V0, Params
 from bcfem.scenes.blister_3d.report import MembraneScene
 from bcfem.scenes.blister_3d.start import FopplStart

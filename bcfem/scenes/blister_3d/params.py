@@ -10,8 +10,8 @@ import math
 from dataclasses import dataclass, field
 
 from bcfem.geometry.outline import KINDS, Outline, read_vertices
-from bcfem.materials import MATERIALS, Gent, NeoHookean
 from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, describe, require
+from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
 
 SUMMARY = "membrane blister of any outline on a rigid substrate, in 3-D (ch. 10 outlook)"
 DESCRIPTION = """\

@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
-from bcfem.scene import Scene
+from bcfem.run.scene import Scene
 
 
 def gather_surface(u, measures, comm):

@@ -12,7 +12,7 @@ __all__ = ["COLUMNS", "DESCRIPTION", "EDGES", "HELP", "SUMMARY", "Params", "buil
 
 
 def build(params: Params, comm, data=None):
-    """The scene (meshed here), for :mod:`bcfem.runner`."""
+    """The scene (meshed here), for :mod:`bcfem.run.runner`."""
     from bcfem.scenes.blister_soft.model import build as build_model
 
     return build_model(params, comm, data)

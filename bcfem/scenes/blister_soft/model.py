@@ -49,22 +49,22 @@ import numpy as np
 import ufl
 from dolfinx import default_scalar_type, fem
 
-from bcfem.bcs import component
-from bcfem.branch import Switch
-from bcfem.context import Context
-from bcfem.energies import MembraneStrain, PressureVolume, SolidStrain, SurfaceTension
 from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
-from bcfem.interface import LiquidGap, MembraneSurface, OnSurface, Scaled
-from bcfem.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
+from bcfem.kinematics.solid import AxisymmetricSolid
+from bcfem.kinematics.submesh import BoundaryPatch
+from bcfem.kinematics.surfaces import LiquidGap, MembraneSurface, OnSurface, Scaled
 from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
+from bcfem.path.branch import Switch
+from bcfem.physics.bcs import component
+from bcfem.physics.context import Context
+from bcfem.physics.energies import MembraneStrain, PressureVolume, SolidStrain, SurfaceTension
+from bcfem.physics.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
 from bcfem.radial_profile import RadialProfile, scale_of, shape_of
-from bcfem.scene import Scene
+from bcfem.run.scene import Scene
 from bcfem.scenes.blister_soft.front import front_weight, material_coordinates, weight_function
 from bcfem.scenes.blister_soft.params import COLUMNS, Params
 from bcfem.scenes.blister_soft.path import SoftScene
 from bcfem.scenes.membrane_edges import moving_front
-from bcfem.solid import AxisymmetricSolid
-from bcfem.submesh import BoundaryPatch
 from bcfem.theory.membrane import droplet_angle_from_volume, simple_membrane_pressure
 
 V0 = 4.0 * math.pi / 3.0  # 4/3 pi R0^3

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 
-from bcfem.roots import bracketed_root
+from bcfem.path.roots import bracketed_root
 from bcfem.scenes.blister_soft.model import V0
 from bcfem.scenes.blister_soft.path import trace
 

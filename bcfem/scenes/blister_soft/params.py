@@ -10,8 +10,8 @@ from dataclasses import dataclass, field
 from typing import ClassVar
 
 from bcfem.geometry.substrate import SubstrateGeometry
-from bcfem.materials import MATERIALS
 from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, flags_named, require
+from bcfem.physics.materials import MATERIALS
 from bcfem.radial_profile import WIDTH, RadialProfile, check_resolved
 from bcfem.radial_profile import parse as parse_profile
 

@@ -15,11 +15,11 @@ traced back as far as it goes.
 
 from __future__ import annotations
 
-from bcfem.continuation import ArcLength, ContinuationError
 from bcfem.log import logger
+from bcfem.path.continuation import ArcLength, ContinuationError
 from bcfem.radial_profile import scale_of
-from bcfem.runner import _join, start
-from bcfem.scene import Scene
+from bcfem.run.runner import _join, start
+from bcfem.run.scene import Scene
 
 #: the modulus of the first point: stiff enough for Newton from a cap on a flat substrate
 STIFF_START = 1e3
@@ -52,7 +52,7 @@ class SoftScene(Scene):
 
 
 def _empty():
-    from bcfem.branch import Branch
+    from bcfem.path.branch import Branch
 
     return Branch()
 
@@ -156,7 +156,7 @@ def trace(scene: SoftScene, on_accept=None, run=None):
     if run is not None:
         problem = run.problem("branch", *arguments, **options)
     else:
-        from bcfem.problem import Problem
+        from bcfem.solver.problem import Problem
         problem = Problem(*arguments, scene.prefix, **options)
     path = start_path(scene.ctx, params)
     scene.start_report = None

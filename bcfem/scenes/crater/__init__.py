@@ -34,7 +34,7 @@ def __getattr__(name: str):
 
 
 def build(params: Params, comm, model_class=None):
-    """The crater scene (meshed when solved), for :mod:`bcfem.runner`."""
+    """The crater scene (meshed when solved), for :mod:`bcfem.run.runner`."""
     if params.path == "fundamental":
         from bcfem.scenes.crater.fundamental import FundamentalCycle as Cycle
     else:
@@ -43,9 +43,9 @@ def build(params: Params, comm, model_class=None):
 
 
 def solve(params: Params, comm, model_class=None) -> tuple[list[dict], dict]:
-    """One cycle in memory: (rows, summary). Raises :class:`bcfem.runner.SolveError` if it
+    """One cycle in memory: (rows, summary). Raises :class:`bcfem.run.runner.SolveError` if it
     cannot be completed (the error's ``run`` holds the converged part)."""
-    from bcfem.runner import solve_rows
+    from bcfem.run.runner import solve_rows
 
     return solve_rows(build(params, comm, model_class), comm)
 

@@ -98,7 +98,7 @@ def record(params: crater.Params) -> tuple[dict, Frames]:
 
 
 def record_point(params: crater.Params, comm) -> dict:
-    """One recorded cycle as a point of :func:`bcfem.sweep.run` (``comm``: the point's own
+    """One recorded cycle as a point of :func:`bcfem.run.sweep.run` (``comm``: the point's own
     one-rank communicator): its summary and its frames."""
     summary, frames = record(params)
     return {"summary": summary, "frames": frames.to_json()}

@@ -1,7 +1,7 @@
 r"""The crater's fundamental branch (``--path fundamental``): both stages by arc-length.
 
 The platen displacement w is an unknown (the model's lift u + w φ e_z, φ = 1 on the top
-face), so :class:`bcfem.continuation.ArcLength` can drive it: the branch connected to
+face), so :class:`bcfem.path.continuation.ArcLength` can drive it: the branch connected to
 the rest state is followed through its folds in ε = -w/H (snap-backs) and along its
 unstable stretches, with no relaxation. At each accepted point the unstable modes are
 counted at fixed platen (displacement control: w held, Sylvester's law), and with
@@ -21,15 +21,15 @@ import math
 import ufl
 from dolfinx import fem
 
-from bcfem.continuation import ArcLength, ContinuationError
-from bcfem.fluids import FLUIDS, Vacuum
 from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
+from bcfem.path.continuation import ArcLength, ContinuationError
+from bcfem.path.stepping import LoadPath
+from bcfem.physics.fluids import FLUIDS, Vacuum
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import CLOSURE_CRITERIA, COLUMNS, MAX_CLOSURE_PRELOAD, PRELOAD_TO_CLOSURE, Params
 from bcfem.scenes.crater.report import finish, plot
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
-from bcfem.stepping import LoadPath
 
 #: the load parameter: the platen's displacement (mm; compression < 0)
 PARAMETER = "platen_displacement"
@@ -42,7 +42,7 @@ def closure(values: dict) -> float:
 
 
 class FundamentalCycle:
-    """The crater scene on its fundamental branch (:mod:`bcfem.runner` solves it)."""
+    """The crater scene on its fundamental branch (:mod:`bcfem.run.runner` solves it)."""
 
     name = "crater"
     stages = ("load", "unload")

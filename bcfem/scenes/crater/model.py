@@ -6,9 +6,9 @@ free to slide: ambient pressure holds the sealed interface down), or, with
 ``bottom = contact``, in frictionless unilateral contact with it (the dissertation's
 model), free to lift off. The crater wall is
 in frictionless contact with the plate (z >= 0, bounds of a variational inequality)
-and may not pass through itself (penalty self-contact, :mod:`bcfem.self_contact`).
+and may not pass through itself (penalty self-contact, :mod:`bcfem.contact.self_contact`).
 A surface energy γ on the wall gives its creases a length scale. The crater fluid is
-a term of the unloading stage (:mod:`bcfem.fluids`); units: pressures in p_a (so
+a term of the unloading stage (:mod:`bcfem.physics.fluids`); units: pressures in p_a (so
 μ/p_a = β), lengths in mm.
 """
 
@@ -23,23 +23,23 @@ import numpy as np
 import ufl
 from dolfinx import fem, mesh
 
-from bcfem import contact_edge
-from bcfem.bcs import component
-from bcfem.cavity import Cavity
-from bcfem.context import Context
-from bcfem.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.contact import plate_edge
+from bcfem.contact.self_contact import WallSelfContact
 from bcfem.geometry.crater import AXIS, BOTTOM, CRATER, LAYER, SPECIMEN, TOP, create_mesh
-from bcfem.materials import NearlyIncompressibleNeoHookean
-from bcfem.modes import ModeAnalysis
+from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.mpi import PointEvaluator, global_sum, real_value
-from bcfem.relaxation import Viscosity
+from bcfem.physics.bcs import component
+from bcfem.physics.cavity import Cavity
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.physics.viscosity import Viscosity
 from bcfem.scenes.crater.params import ELEMENTS, Params
-from bcfem.self_contact import WallSelfContact
-from bcfem.solid import AxisymmetricSolid
+from bcfem.stability.modes import ModeAnalysis
 
 #: the facet tag of the bottom face inside the seal's reach (``bottom = contact``)
 SEALED_BOTTOM = 16
-#: with the bottom face in contact, the cavity's gap scale over a (:class:`bcfem.cavity.Cavity`):
+#: with the bottom face in contact, the cavity's gap scale over a (:class:`bcfem.physics.cavity.Cavity`):
 #: its nodes on the plate feel no fluid, and a lift h counts as h (1 - O(g^2/h^2))
 CONTACT_GAP = 1e-4
 #: how far out the seal may move before the crater counts as pulled off: this fraction of the
@@ -250,7 +250,7 @@ class Crater:
 
     def open_radius(self) -> float:
         """Current radius of the edge of the suction area, where the crater wall leaves
-        the plate (located inside its element, :mod:`bcfem.contact_edge`). The pressure on
+        the plate (located inside its element, :mod:`bcfem.contact.plate_edge`). The pressure on
         the wall has the vertical resultant Δp π r_edge² whatever the wall's shape above
         (an overhang cancels), so A = π r_edge². With the bottom face in contact the edge is
         the sealed contact line: where the surface leaves the plate on the way from the far
@@ -264,16 +264,16 @@ class Crater:
         # along the surface: the bottom face from outside in (below 0), then the wall up (its Z)
         order = np.concatenate([Xw[:, 1], self.geometry.crater_radius - Xb[:, 0]])[once]
         x = np.column_stack([X[:, 0] + self.u.x.array[rdofs], X[:, 1] + self.u.x.array[zdofs]])
-        return contact_edge.plate_edge(self.mesh.comm, X[:, :2], x, 1e-6 * self.geometry.crater_radius,
+        return plate_edge.plate_edge(self.mesh.comm, X[:, :2], x, 1e-6 * self.geometry.crater_radius,
                                        order=order)
 
     def plate_edge(self, part: np.ndarray) -> float:
         """The current radius where the wall nodes ``part`` (a mask of the wall's dofs) leave
         the plate. They lie on it from their lowest reference height up to the highest node
         on the plate; the edge lies between that node and the next one off it, where
-        :func:`bcfem.contact_edge.plate_edge` extrapolates the gap of the nodes off the
+        :func:`bcfem.contact.plate_edge.plate_edge` extrapolates the gap of the nodes off the
         plate, g^(2/3), to zero (a smooth edge: g ~ (s - s0)^(3/2)); an edge at a corner
         stays at the corner's node. 0 if none of them is on the plate (collective)."""
         X, zdofs, rdofs = (a[part] for a in self._wall)
         x = np.column_stack([X[:, 0] + self.u.x.array[rdofs], X[:, 1] + self.u.x.array[zdofs]])
-        return contact_edge.plate_edge(self.mesh.comm, X[:, :2], x, 1e-6 * self.geometry.crater_radius)
+        return plate_edge.plate_edge(self.mesh.comm, X[:, :2], x, 1e-6 * self.geometry.crater_radius)

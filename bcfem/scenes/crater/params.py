@@ -63,7 +63,7 @@ class Element:
 #: pressure, isoparametric, full integration)
 ELEMENTS = {"p2p1": Element(2, 1, 4, "triangle", 2),
             "q1p0": Element(1, 0, 2, "quadrilateral", 1)}
-#: the crater fluids (the terms are ``bcfem.fluids.FLUIDS``)
+#: the crater fluids (the terms are ``bcfem.physics.fluids.FLUIDS``)
 FLUID_NAMES = ("air", "liquid")
 #: ``--preload closure``: load to the smallest preload that closes the crater (eps_m)
 PRELOAD_TO_CLOSURE = -1.0
@@ -176,7 +176,7 @@ class Params:
     #: sweep reuses a solved point whatever its budget (and retries one that ran out)
     BUDGETS = ("max_snaps",)
     #: parameters added after the maps of docs/figures were solved: a sweep point's digest leaves
-    #: them out at their default (:func:`bcfem.sweep.point_key`), so those points stay valid
+    #: them out at their default (:func:`bcfem.run.sweep.point_key`), so those points stay valid
     LATER = ("bottom", "retract", "cavitation", "element")
 
     def __post_init__(self):

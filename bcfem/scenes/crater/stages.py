@@ -14,7 +14,7 @@ and the platen retracts until its force vanishes (located by Brent's method). Th
 suction force is F = (1 - V1/V2) p_a A2 (eq. 7.3), F~ = F/(p_a A0) (eq. 7.13).
 
 A step Newton cannot reach is taken by pseudo-time relaxation (a snap), and the
-tangent's inertia is checked after every step (:class:`bcfem.stepping.LoadPath`).
+tangent's inertia is checked after every step (:class:`bcfem.path.stepping.LoadPath`).
 A cycle that fails is traced once more from the start with Newton steps bounded to
 keep the wall admissible and a larger default iteration limit (the user's PETSc
 options still win); ``retraced`` in the summary says why the first trace failed.
@@ -28,10 +28,11 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from bcfem.cavitation import BISECTIONS, change_phase, liquid_or_vapour, phase_change
-from bcfem.fluids import FLUIDS, Vacuum
 from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
+from bcfem.path.stepping import LoadPath, SteppingError
+from bcfem.physics.cavitation import BISECTIONS, change_phase, liquid_or_vapour, phase_change
+from bcfem.physics.fluids import FLUIDS, Vacuum
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import (
     CLOSURE_CRITERIA,
@@ -42,7 +43,6 @@ from bcfem.scenes.crater.params import (
     Params,
 )
 from bcfem.scenes.crater.report import finish, plot
-from bcfem.stepping import LoadPath, SteppingError
 
 #: full Newton steps can cycle between two contact active sets; backtracking breaks the
 #: cycle, and where it stalls, cp (a line search on the energy along Newton's direction) may
@@ -54,7 +54,7 @@ CAREFUL = {"snes_max_it": 80}
 
 class CraterCycle:
     """The crater scene: a :class:`Crater` model driven through the stages ``load`` and
-    ``unload`` (:mod:`bcfem.runner` solves it).
+    ``unload`` (:mod:`bcfem.run.runner` solves it).
 
     Args:
         params: the scene's parameters.

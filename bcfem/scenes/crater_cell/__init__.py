@@ -12,16 +12,16 @@ from bcfem.scenes.crater_cell.params import COLUMNS, DESCRIPTION, SUMMARY, Param
 
 
 def build(params: Params, comm):
-    """The cell's cycle (meshed when solved), for :mod:`bcfem.runner`."""
+    """The cell's cycle (meshed when solved), for :mod:`bcfem.run.runner`."""
     from bcfem.scenes.crater_cell.stages import CellCycle
 
     return CellCycle(params, comm)
 
 
 def solve(params: Params, comm) -> tuple[list[dict], dict]:
-    """One cycle in memory: (rows, summary); raises :class:`bcfem.runner.SolveError` if it cannot
+    """One cycle in memory: (rows, summary); raises :class:`bcfem.run.runner.SolveError` if it cannot
     be completed (the error's ``run`` holds the converged part)."""
-    from bcfem.runner import solve_rows
+    from bcfem.run.runner import solve_rows
 
     return solve_rows(build(params, comm), comm)
 

@@ -1,6 +1,6 @@
 r"""The lattice cell's model: mesh, states, terms, boundary conditions and observables.
 
-The displacement is u = ũ + (e_x x, e_y y, 0) (the lift of :class:`bcfem.solid_3d.Solid3D`),
+The displacement is u = ũ + (e_x x, e_y y, 0) (the lift of :class:`bcfem.kinematics.solid_3d.Solid3D`),
 with ũ held normal to every side face: each side face stays on its plane, the faces x = Lx
 and y = Ly move with the lateral macroscopic strains e_x, e_y (real-space states). Their
 residuals are the derivatives of the energy, the mean lateral tractions on the side faces: zero,
@@ -8,7 +8,7 @@ so the array spreads freely under the platen (uniaxial stress on average). The p
 ũ_z = -eps H on the top face, the plate ũ_z = 0 on the bottom face (both frictionless); the
 walls are in frictionless contact with the plate, z = Z + ũ_z >= 0 as bounds of the
 variational-inequality solver. Each quarter crater is a cavity of its own
-(:class:`bcfem.cavity.Cavity`, with the crater scene's contact gap, so that a wall on the plate
+(:class:`bcfem.physics.cavity.Cavity`, with the crater scene's contact gap, so that a wall on the plate
 is not wetted), sealed with its own fluid. Pressures in p_a (μ/p_a = β), lengths in mm.
 """
 
@@ -22,18 +22,18 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from bcfem.bcs import component
-from bcfem.cavity import Cavity
-from bcfem.context import Context
-from bcfem.energies import SolidStrain, SolidSurfaceEnergy
-from bcfem.fluids import FLUIDS
 from bcfem.geometry.crater_cell import BOTTOM, MIRROR_X, MIRROR_Y, SIDE_X, SIDE_Y, TOP, WALL, create_mesh
-from bcfem.materials import NearlyIncompressibleNeoHookean
+from bcfem.kinematics.solid_3d import Solid3D
 from bcfem.mpi import global_sum, real_value
-from bcfem.relaxation import Viscosity
+from bcfem.physics.bcs import component
+from bcfem.physics.cavity import Cavity
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.physics.fluids import FLUIDS
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.physics.viscosity import Viscosity
 from bcfem.scenes.crater.model import CONTACT_GAP
 from bcfem.scenes.crater_cell.params import Params
-from bcfem.solid_3d import Solid3D
 
 #: the lateral strains' states, along x and y
 LATERAL = ("lateral_strain_x", "lateral_strain_y")

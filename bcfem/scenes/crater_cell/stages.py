@@ -5,24 +5,24 @@ checkpoints, the lateral strains free. ``unload`` (each crater sealed at p_a wit
 V1 there): the platen retracts to zero force, located by Brent's method, and on to eps = 0.
 F = (p_a - p) A2 per crater at zero platen force (eq. 7.3), F_tilde = F/(p_a A0).
 Steps Newton cannot reach are passed by pseudo-time relaxation, and the tangent's inertia
-is checked after every step (:class:`bcfem.stepping.LoadPath`).
+is checked after every step (:class:`bcfem.path.stepping.LoadPath`).
 """
 
 from __future__ import annotations
 
 from bcfem.log import progress
+from bcfem.path.stepping import LoadPath, SteppingError
 from bcfem.scenes.crater.report import classify
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 from bcfem.scenes.crater_cell.model import CellModel
 from bcfem.scenes.crater_cell.params import COLUMNS, Params
-from bcfem.stepping import LoadPath, SteppingError
 
 #: how far beyond its original height the platen may lift looking for zero force
 MAX_LIFT = 0.1
 
 
 class CellCycle:
-    """The scene ``crater-cell`` (:mod:`bcfem.runner` solves it)."""
+    """The scene ``crater-cell`` (:mod:`bcfem.run.runner` solves it)."""
 
     name = "crater-cell"
     stages = ("load", "unload")

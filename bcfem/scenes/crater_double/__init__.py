@@ -13,7 +13,7 @@ from bcfem.scenes.crater_double.params import COLUMNS, DESCRIPTION, SUMMARY, Par
 
 
 def build(params: Params, comm, model_class=None):
-    """The double-crater scene (meshed when solved), for :mod:`bcfem.runner`."""
+    """The double-crater scene (meshed when solved), for :mod:`bcfem.run.runner`."""
     from bcfem.scenes.crater_double.membrane import MembraneCycle
     from bcfem.scenes.crater_double.stages import DoubleCraterCycle
 
@@ -22,9 +22,9 @@ def build(params: Params, comm, model_class=None):
 
 
 def solve(params: Params, comm, model_class=None) -> tuple[list[dict], dict]:
-    """One cycle in memory: (rows, summary); raises :class:`bcfem.runner.SolveError` if it
+    """One cycle in memory: (rows, summary); raises :class:`bcfem.run.runner.SolveError` if it
     cannot be completed (the error's ``run`` holds the converged part)."""
-    from bcfem.runner import solve_rows
+    from bcfem.run.runner import solve_rows
 
     return solve_rows(build(params, comm, model_class), comm)
 

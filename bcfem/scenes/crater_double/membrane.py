@@ -1,8 +1,8 @@
 r"""The dissertation's double-chamber model (§9.2–9.3) as an option (``--chambers membrane``).
 
 Two chambers from ε = 0, divided by a virtual membrane between a sidewall node (Node-2) and a
-protuberance node (Node-1) (:mod:`bcfem.chamber_membrane`), each sealed at rest with air at p_a,
-the gas exchanged between them by eq. 9.1 (:mod:`bcfem.fluid_exchange`), backward Euler in the
+protuberance node (Node-1) (:mod:`bcfem.scenes.crater_double.chamber_membrane`), each sealed at rest with air at p_a,
+the gas exchanged between them by eq. 9.1 (:mod:`bcfem.scenes.crater_double.fluid_exchange`), backward Euler in the
 step's pseudo-time, coupled to the mechanics in one Newton solve per step. C_V is
 ``exchange_before`` while loading below ε_a and ``exchange_after`` from ε_a on and in unloading
 (the dissertation's Step 1 and Step 2). C_V = 0 is one cavity (the chambers connected exactly,
@@ -22,11 +22,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from bcfem.chamber_membrane import ChamberMembrane
-from bcfem.fluid_exchange import FluidExchange
 from bcfem.geometry.double_crater import PROTUBERANCE, SIDEWALL
 from bcfem.log import progress
 from bcfem.mpi import global_sum
+from bcfem.scenes.crater_double.chamber_membrane import ChamberMembrane
+from bcfem.scenes.crater_double.fluid_exchange import FluidExchange
 from bcfem.scenes.crater_double.params import AUTO
 from bcfem.scenes.crater_double.stages import C1, C2, DoubleCraterCycle
 
@@ -83,7 +83,7 @@ def node_pair(params, comm, model_class=None) -> dict:
     given = params.membrane_sidewall != AUTO
     pair = (params.membrane_sidewall, params.membrane_protuberance) if given else None
     if not given or params.switch_strain == AUTO:
-        from bcfem.runner import solve
+        from bcfem.run.runner import solve
 
         probe_params = replace(params, **{f.name: f.default for f in params.__dataclass_fields__.values()
                                           if f.name in ("chambers", *params.MEMBRANE)})

@@ -2,7 +2,7 @@
 and self-contact, on a wall of three tagged parts (sidewall, roof, protuberance), so that
 the sidewall's contact with the protuberance is the wall's self-contact.
 
-Its chambers (:mod:`bcfem.chambers`) are split where the sidewall first touches the
+Its chambers (:mod:`bcfem.scenes.crater_double.chambers`) are split where the sidewall first touches the
 protuberance. The fluid force on the specimen is that of the chamber on the plate: the
 pressure difference times the plate's wetted annulus, between the protuberance's footprint
 and the sidewall's edge (the chamber under the roof is enclosed by the specimen alone).
@@ -21,13 +21,13 @@ import numpy as np
 import ufl
 from dolfinx import fem, mesh
 
-from bcfem.bcs import component
-from bcfem.cavity import Cavity
-from bcfem.chambers import ChamberSplit
 from bcfem.geometry.double_crater import BOTTOM, OUTER, PROTUBERANCE, ROOF, SIDEWALL, TOP, WALLS, create_mesh
 from bcfem.mpi import global_sum
+from bcfem.physics.bcs import component
+from bcfem.physics.cavity import Cavity
 from bcfem.scenes.crater.model import CONTACT_GAP, Crater
 from bcfem.scenes.crater.model import SEALED_BOTTOM as CRATER_SEALED_BOTTOM
+from bcfem.scenes.crater_double.chambers import ChamberSplit
 
 #: a wall node lies on a reference surface to this fraction of H (P2 nodes lie on it exactly)
 ON_SURFACE = 1e-6

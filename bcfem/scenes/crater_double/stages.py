@@ -2,8 +2,8 @@ r"""The double-chamber crater's cycle: declared stages ``load`` and ``unload``, 
 with the chambers as they are, which change where the sidewall touches the protuberance
 (split) or leaves it (merge).
 
-Each chamber's fluid is a term of its own (:mod:`bcfem.fluids`) in its volume
-(:mod:`bcfem.chambers`): with one chamber the whole cavity holds amount n (p V = n for air,
+Each chamber's fluid is a term of its own (:mod:`bcfem.physics.fluids`) in its volume
+(:mod:`bcfem.scenes.crater_double.chambers`): with one chamber the whole cavity holds amount n (p V = n for air,
 V = n for a liquid); at a split, located by bisection in eps, C1 and C2 take the amounts
 p V_C1 and p V_C2 of that state; at a merge, the sum. Every topology change starts a new
 problem on the same states; the rows carry the number of chambers. The platen returns to
@@ -14,15 +14,15 @@ from __future__ import annotations
 
 import math
 
-from bcfem.cavitation import change_phase, liquid_or_vapour, phase_change
-from bcfem.fluids import FLUIDS
 from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
+from bcfem.path.stepping import LoadPath, SteppingError
+from bcfem.physics.cavitation import change_phase, liquid_or_vapour, phase_change
+from bcfem.physics.fluids import FLUIDS
 from bcfem.scenes.crater.report import classify, symmetry_breaking
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 from bcfem.scenes.crater_double.model import DoubleCrater
 from bcfem.scenes.crater_double.params import COLUMNS, Params
-from bcfem.stepping import LoadPath, SteppingError
 
 #: halvings of the step that brackets a split or a merge
 BISECTIONS = 12
@@ -32,7 +32,7 @@ ONE, C1, C2 = "fluid_pressure", "p_c1", "p_c2"
 
 class DoubleCraterCycle:
     """The scene ``crater-double``: :class:`DoubleCrater` pressed to the preload and unloaded
-    to eps = 0 (:mod:`bcfem.runner` solves it)."""
+    to eps = 0 (:mod:`bcfem.run.runner` solves it)."""
 
     name = "crater-double"
     stages = ("load", "unload")

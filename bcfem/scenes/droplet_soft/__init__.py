@@ -11,7 +11,7 @@ from bcfem.scenes.droplet_soft.params import COLUMNS, DESCRIPTION, MODELS, SUMMA
 
 
 def build(params: Params, comm):
-    """The droplet scene (meshed here), for :mod:`bcfem.runner`."""
+    """The droplet scene (meshed here), for :mod:`bcfem.run.runner`."""
     from bcfem.scenes.droplet_soft.model import DropletSoft
 
     return DropletSoft(params, comm)
@@ -19,8 +19,7 @@ def build(params: Params, comm):
 
 def solve(params: Params, comm):
     """One solve in memory: (scene, rows, summary); the scene holds the surface ``profile``."""
-    from bcfem import runner
-
+    from bcfem.run import runner
     scene = build(params, comm)
     solved, summary = runner.solve(scene, comm)
     return scene, solved.rows, summary

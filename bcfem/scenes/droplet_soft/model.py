@@ -31,17 +31,17 @@ import math
 import numpy as np
 from dolfinx import fem
 
-from bcfem import bcs as dirichlet
 from bcfem import io
-from bcfem.context import Context
-from bcfem.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
-from bcfem.linear_solid import LinearDropLoads, LinearElasticity, LinearSurfaceTension, SubstrateKinematics
-from bcfem.materials import NearlyIncompressibleNeoHookean
 from bcfem.mpi import PointEvaluator, real_value, sample
+from bcfem.path.stepping import LoadPath, SteppingError
+from bcfem.physics import bcs as dirichlet
+from bcfem.physics.context import Context
+from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
+from bcfem.physics.linear_solid import LinearDropLoads, LinearElasticity, LinearSurfaceTension, SubstrateKinematics
+from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.physics.sessile_drop import SphericalCapDrop, cap_volume
 from bcfem.scenes.droplet_soft.params import COLUMNS, Params
-from bcfem.sessile_drop import SphericalCapDrop, cap_volume
-from bcfem.stepping import LoadPath, SteppingError
 
 #: the three tensions' run-time constants and the Params fields of their targets
 TENSIONS = {"gamma_l": "gamma_l", "gamma_s": "gamma_s", "gamma_ls": "gamma_ls"}
@@ -66,7 +66,7 @@ def profile_radii(width: float) -> np.ndarray:
 
 
 class DropletSoft:
-    """The droplet-soft scene (:mod:`bcfem.runner` solves it)."""
+    """The droplet-soft scene (:mod:`bcfem.run.runner` solves it)."""
 
     name = "droplet-soft"
     stages = ("solve", "load")

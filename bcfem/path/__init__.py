@@ -1,0 +1,1 @@
+"""Following equilibria: arc-length continuation, load stepping, relaxation, volume control."""

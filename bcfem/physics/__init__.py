@@ -1,0 +1,1 @@
+"""What a term sees (context, contract, materials) and the energy terms themselves."""

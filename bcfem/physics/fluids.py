@@ -1,0 +1,127 @@
+r"""Fluids sealed in a cavity, as energy terms in the cavity's current volume V(u).
+
+Pressures are in units of the ambient pressure p_a, which acts outside. Each
+sealed fluid adds its pressure p as a global unknown (a real-space state,
+``pressure_name``); its row is the fluid's equation of state:
+
+* :class:`IdealGas`: :math:`-(p-1)V + V_1\ln p`; stationary in p: Boyle's law
+  :math:`pV = V_1` (isothermal, sealed at p = 1 and volume V1);
+* :class:`IncompressibleLiquid`: :math:`-(p-1)(V - V_1)`; stationary in p: V = V1;
+* :class:`HeldPressure`: :math:`-(p_h-1)V`: a cavity at a given pressure p_h (a liquid's
+  vapour once it has cavitated);
+* :class:`Vacuum`: :math:`sV`: an empty cavity, the ambient pressure alone
+  (s ramps the suction on when a closed cavity is sealed).
+
+In every case the derivative in u is the pressure difference (p - 1) times
+the variation of V, a follower load linearised exactly by UFL. Constants that
+are not integrals over the body (V1 ln p, (p-1)V1) are spread over the body's
+measure so that each term is one form.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ufl
+from dolfinx import fem
+
+from bcfem.mpi import global_sum
+
+
+def _spread(ctx, value):
+    """``value`` as an integrand over the body: value / |body| dx (|body| a run-time constant)."""
+    measure = ctx.constant("body_measure", 1.0)
+    if measure.value == 1.0:
+        measure.value = global_sum(fem.form(1.0 * ufl.dx(domain=ctx.mesh)))
+    return value / measure * ufl.dx(domain=ctx.mesh)
+
+
+@dataclass(frozen=True)
+class SealedFluid:
+    """A fluid sealed at p = 1 in volume ``sealed_volume``.
+
+    Its pressure is a multiplier (:class:`bcfem.physics.protocols.Term`): the row in p is
+    the equation of state, and the p-p block of the tangent is negative
+    (-V1/p^2 for a gas) or zero (a liquid), one negative eigenvalue either way.
+
+    Attributes:
+        cavity: the cavity (:class:`bcfem.physics.cavity.Cavity`): its current volume V(u).
+        sealed_volume: V1, the volume at sealing (> 0).
+        pressure_name: name of the pressure state.
+    """
+
+    cavity: object
+    sealed_volume: float
+    pressure_name: str = "fluid_pressure"
+    name = "sealed_fluid"
+
+    @property
+    def multipliers(self) -> tuple[str, ...]:
+        return (self.pressure_name,)
+
+    def unknowns(self, ctx):
+        """(pressure state, sealed volume constant ``<pressure_name>_sealed``: each pressure
+        its own, so that several chambers, sealed apart, live in one model)."""
+        amount = ctx.constant(f"{self.pressure_name}_sealed")
+        amount.value = self.sealed_volume  # a fluid sealed again under the same name: its new amount
+        return ctx.real_state(self.pressure_name), amount
+
+
+class IdealGas(SealedFluid):
+    """p V = V1 (isothermal)."""
+
+    name = "ideal_gas"
+
+    def energy(self, ctx):
+        p, amount = self.unknowns(ctx)
+        return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, amount * ufl.ln(p))
+
+
+class IncompressibleLiquid(SealedFluid):
+    """V = V1, p its multiplier (p may turn negative; a scene that models cavitation
+    replaces the term by :class:`HeldPressure` where p falls to the vapour pressure)."""
+
+    name = "incompressible_liquid"
+
+    def energy(self, ctx):
+        p, amount = self.unknowns(ctx)
+        # a zero (p - 1)^2 term puts the pressure's diagonal into the sparsity pattern,
+        # which PETSc's VI reduction and zeroRowsColumns need
+        zero = ctx.constant("liquid_pressure_diagonal", 0.0)
+        return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, (p - 1.0) * amount + zero * (p - 1.0) ** 2)
+
+
+@dataclass(frozen=True)
+class HeldPressure:
+    """A cavity at the pressure ``pressure`` (over p_a) whatever its volume: a liquid that has
+    cavitated, its vapour at the vapour pressure. No unknown: the volume is free."""
+
+    cavity: object
+    pressure: float
+    pressure_name: str = "fluid_pressure"
+    multipliers = ()
+
+    @property
+    def name(self) -> str:
+        return f"{self.pressure_name}_held"
+
+    def energy(self, ctx):
+        p = ctx.constant(self.name)
+        p.value = self.pressure
+        return -(p - 1.0) * self.cavity.volume(ctx.kin)
+
+
+@dataclass(frozen=True)
+class Vacuum:
+    """An empty cavity: p = 0 inside, the ambient pressure's work s·V (s = ``vacuum_load``)."""
+
+    cavity: object
+    name = "vacuum"
+    multipliers = ()
+
+    def energy(self, ctx):
+        return ctx.constant("vacuum_load", 0.0) * self.cavity.volume(ctx.kin)
+
+
+#: fluid name -> sealed fluid term
+FLUIDS = {"air": IdealGas, "liquid": IncompressibleLiquid}

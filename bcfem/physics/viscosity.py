@@ -1,0 +1,40 @@
+r"""The viscous (proximal) term of pseudo-time relaxation (:mod:`bcfem.path.relaxation`).
+
+.. math:: \frac{c}{2} \int |u - u_{prev}|^2 \, dV
+
+It vanishes at rest and is off (c = 0) in every final Newton solve, so it selects which
+stable state a relaxation falls into, never the state.
+"""
+
+from __future__ import annotations
+
+import math
+
+import ufl
+from dolfinx import fem
+
+from bcfem.mpi import global_sum
+
+
+class Viscosity:
+    """The proximal term (c/2) ∫ |u - u_prev|² dV; c = 0 (off) unless relaxing.
+
+    The viscosity c is the run-time constant ``viscosity``; no states are added."""
+
+    name = "viscosity"
+    multipliers = ()
+
+    def __init__(self, u: fem.Function):
+        self.previous = fem.Function(u.function_space, name="previous_displacement")
+        self._increment = None
+
+    def energy(self, ctx):
+        c = ctx.constant("viscosity", 0.0)
+        self.c = c
+        d = ctx.u - self.previous
+        self._increment = fem.form(ctx.kin.integral(ufl.inner(d, d)))
+        return 0.5 * c * ctx.kin.integral(ufl.inner(d, d))
+
+    def increment(self) -> float:
+        """‖u - u_prev‖ over the body (L2 with the volume weight)."""
+        return math.sqrt(max(global_sum(self._increment), 0.0))

@@ -1,0 +1,376 @@
+"""Solve any scene and write its results directory: one contract for every scene.
+
+A scene declares its stages and solves itself into a :class:`Run`, which builds each
+stage's :class:`~bcfem.solver.problem.Problem` under the prefix ``bcfem_<scene>_<stage>_`` and
+records the accepted rows, the effective PETSc options and the cost. Arc-length scenes
+(:class:`~bcfem.run.scene.Scene`) and staged scenes (a crater cycle) differ only in their
+``solve``. Outputs (rank 0 writes CSV, JSON and PNG; all ranks write VTX):
+
+* ``summary.json``: ``status`` (``ok``, ``failed`` or ``interrupted``) and ``error`` (with a
+  ``traceback`` for an internal error), the parameters, the scene's results, ``steps``,
+  ``newton_iterations``, ``dofs``, ``ranks``, ``wall_time_s``, ``versions``,
+  ``petsc_options`` (the effective options, by full name) and ``files`` (what the run wrote);
+* ``branch.csv``: the accepted rows; on failure or interruption the converged part is kept;
+* the scene's PNGs, and ``fields.bp`` for scenes with fields (``fields_<name>.bp`` for
+  fields on a boundary submesh).
+
+Files an earlier run listed and this one did not write are removed (:mod:`bcfem.run.outdir`).
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from contextlib import contextmanager
+from dataclasses import asdict, is_dataclass
+from pathlib import Path
+
+from bcfem import interrupt, io
+from bcfem.log import logger
+from bcfem.path.continuation import ArcLength, Branch, ContinuationError
+from bcfem.path.stepping import SteppingError
+from bcfem.run import outdir
+from bcfem.solver.problem import TIMED, Problem
+
+#: what a scene raises when its path cannot go on (the converged part is kept)
+SolveErrors = (ContinuationError, SteppingError)
+#: more unknowns than this make a run warn that it will take minutes (on a few cores)
+LARGE_PROBLEM_DOFS = 200_000
+
+
+class SolveError(RuntimeError):
+    """A scene's solve failed; ``run`` holds what converged."""
+
+    def __init__(self, message: str, run: Run):
+        super().__init__(message)
+        self.run = run
+
+
+def versions() -> dict:
+    from petsc4py import PETSc
+
+    import dolfinx
+
+    import bcfem
+
+    return {"bcfem": bcfem.__version__, "dolfinx": dolfinx.__version__,
+            "petsc": "{}.{}.{}".format(*PETSc.Sys.getVersion())}
+
+
+class Run:
+    """The record of one solve of a scene.
+
+    Attributes:
+        rows: accepted states' observables, in path order.
+        results: the scene's own summary entries (filled as the solve goes on, so that
+            a failed solve still reports what it found).
+        petsc_options: effective options of every stage's problem, by full name.
+        dofs: the largest global size of the stages' problems.
+        newton_iterations: over every stage.
+    """
+
+    def __init__(self, scene, comm, fields_path: Path | None = None):
+        self.scene = scene
+        self.comm = comm
+        self.fields_path = fields_path
+        self._writers: list = []
+        self.rows: list[dict] = []
+        self.results: dict = {}
+        self.petsc_options: dict[str, str] = {}
+        self.dofs = 0
+        self.newton_iterations = 0
+        self.failed_solves = 0
+        self.timings = dict.fromkeys(TIMED, 0.0)
+        self._problems: list[Problem] = []
+
+    def prefix(self, stage: str) -> str:
+        """``bcfem_<scene>_<stage>_``, for a stage the scene declares."""
+        if stage not in self.scene.stages:
+            raise ValueError(f"scene {self.scene.name!r} declares the stages {self.scene.stages}, not {stage!r}")
+        return f"bcfem_{self.scene.name}_{stage}_".replace("-", "_")
+
+    def problem(self, stage: str, ctx, terms, bcs, petsc_options=None, **kwargs) -> Problem:
+        """The problem of ``stage`` (closed by :meth:`close` or :meth:`stage`)."""
+        problem = Problem(ctx, terms, bcs, self.prefix(stage), petsc_options, **kwargs)
+        self.petsc_options.update({problem.prefix + k: str(v) for k, v in problem.options.items()})
+        dofs = problem.global_size(problem.names)
+        if dofs > LARGE_PROBLEM_DOFS >= self.dofs:
+            logger.warning(f"warning: {dofs} dofs: a large problem (more than {LARGE_PROBLEM_DOFS}); "
+                           "expect minutes")
+        self.dofs = max(self.dofs, dofs)
+        self._problems.append(problem)
+        return problem
+
+    @contextmanager
+    def stage(self, stage: str, ctx, terms, bcs, petsc_options=None, **kwargs):
+        """:meth:`problem` as a context: the problem is closed on leaving, also on failure."""
+        problem = self.problem(stage, ctx, terms, bcs, petsc_options, **kwargs)
+        try:
+            yield problem
+        finally:
+            self.release(problem)
+
+    def release(self, problem: Problem) -> None:
+        """Count the problem's Newton iterations and destroy its PETSc objects."""
+        if problem in self._problems:
+            self._problems.remove(problem)
+            self.newton_iterations += problem.newton_iterations
+            self.failed_solves += problem.failed_solves
+            for key, seconds in problem.timings.items():
+                self.timings[key] = self.timings.get(key, 0.0) + seconds
+            problem.close()
+
+    def watch(self, functions) -> None:
+        """Write ``functions`` at every recorded row (collective; VTX, when the run has a
+        fields path): those on the first one's mesh into ``fields.bp``, those on another mesh
+        (a boundary submesh) into ``fields_<name of its first function>.bp``. A second call,
+        e.g. for the model of a retraced path, starts the files again."""
+        if self.fields_path is None or not functions:
+            return
+        self._close_writers()
+        groups: dict[int, list] = {}
+        for f in functions:
+            groups.setdefault(id(f.function_space.mesh), []).append(f)
+        for k, group in enumerate(groups.values()):
+            path = self.fields_path if k == 0 else self.fields_path.with_name(f"fields_{group[0].name}.bp")
+            self._writers.append(io.FieldWriter(self.comm, path, group))
+
+    def on_accept(self, row: dict) -> None:
+        """Write the watched fields of an accepted state (its time: the arc length, or the
+        row's index)."""
+        for writer in self._writers:
+            writer.write(row.get("s", len(self.rows)))
+
+    def _close_writers(self) -> None:
+        for writer in self._writers:
+            writer.close()
+        self._writers = []
+
+    def record(self, row: dict) -> None:
+        """Keep an accepted state's observables (and write its fields)."""
+        self.on_accept(row)
+        self.rows.append(row)
+
+    def restart(self) -> None:
+        """Forget the rows and results (a scene that traces its path again from the start)."""
+        self.rows.clear()
+        self.results.clear()
+
+    def close(self) -> None:
+        for problem in list(self._problems):
+            self.release(problem)
+        self._close_writers()
+
+
+def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
+    """Solve ``scene``; returns (the run, its summary). When the path cannot go on, raises
+    :class:`SolveError` (with the run, whose ``summary`` says ``failed``); on a signal
+    :class:`~bcfem.interrupt.Interrupted` (``status`` ``interrupted``); on any other
+    exception that exception, with the run as its ``run`` (``failed``, with the traceback).
+    With ``fields_path`` the fields the scene watches are written there (VTX)."""
+    t0 = time.perf_counter()
+    run = Run(scene, comm, fields_path)
+    status, error, raised = "ok", None, None
+    try:
+        scene.solve(run)
+    except SolveErrors as err:
+        status, error = "failed", str(err)
+    except (Exception, interrupt.Interrupted) as err:
+        raised = err
+    finally:
+        with interrupt.deferred():
+            run.close()
+    signum = interrupt.received(comm)  # every rank says the same
+    if signum and (raised is not None or status == "failed"):
+        status, error = "interrupted", f"interrupted by {interrupt.Interrupted(signum)}"
+        raised = interrupt.Interrupted(signum)
+    elif raised is not None:
+        status, error = "failed", f"internal error: {type(raised).__name__}: {raised}"
+    params = getattr(scene, "params", None)
+    run.summary = {
+        "scene": scene.name,
+        "status": status,
+        "error": error,
+        **({"traceback": "".join(traceback.format_exception(raised))} if status == "failed" and raised else {}),
+        "parameters": asdict(params) if is_dataclass(params) else {},
+        **run.results,
+        "steps": len(run.rows),
+        "newton_iterations": run.newton_iterations,
+        "failed_solves": run.failed_solves,
+        "dofs": run.dofs,
+        "ranks": comm.size,
+        "wall_time_s": (wall := time.perf_counter() - t0),
+        "time_split_s": time_split(run.timings, wall),
+        "versions": versions(),
+        "petsc_options": run.petsc_options,
+    }
+    if raised is not None:
+        raised.run = run
+        raise raised
+    if error:
+        raise SolveError(error, run)
+    return run, run.summary
+
+
+def solve_rows(scene, comm) -> tuple[list[dict], dict]:
+    """:func:`solve` in memory: (the accepted rows, the summary)."""
+    solved, summary = solve(scene, comm)
+    return solved.rows, summary
+
+
+def time_split(timings: dict, wall: float) -> dict:
+    """Where a run's wall time went. Within Newton: form assembly, discrete terms
+    (self-contact), the direct solver's factorisations (analysis included) and its triangular
+    solves, and the rest of Newton (line search, active sets, reduced matrices, convergence
+    tests); then stability checks, and everything else (meshing, compilation, observables,
+    relaxation set-up, output)."""
+    split = {"assembly": timings["assembly"], "discrete_terms": timings["discrete_terms"],
+             "factorisation": timings["factorisation"], "linear_solve": timings["linear_solve"],
+             "newton_other": timings["newton"], "stability": timings["stability"]}
+    split["other"] = wall - sum(split.values())
+    return split
+
+
+def run(scene, out: Path, comm, plots: bool = True) -> dict:
+    """Solve ``scene`` and write ``out`` (also on failure or a signal, then raising
+    :class:`SolveError` or :class:`~bcfem.interrupt.Interrupted` after writing), with the
+    scene's PNGs unless ``plots`` is False; returns the summary. The summary's ``files``
+    lists what the run wrote; an earlier run's files not among them are removed."""
+    out = Path(out)
+    if comm.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    previous = outdir.files_of_last_run(out) if comm.rank == 0 else []
+    comm.barrier()
+    failure = None
+    with io.recording() as written:
+        try:
+            solved, summary = solve(scene, comm, out / "fields.bp")
+        except (Exception, interrupt.Interrupted) as err:
+            if not hasattr(err, "run"):
+                raise
+            failure, solved, summary = err, err.run, err.run.summary
+        with interrupt.deferred():  # the results of a signalled run are written all the same
+            io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
+            if plots and comm.rank == 0 and solved.rows:
+                for name, fig in scene.figures(solved.rows, summary).items():
+                    io.save_figure(fig, out / name, comm)
+            _write_summary(out, summary, written, previous, comm)
+    if isinstance(failure, interrupt.Interrupted):
+        raise failure
+    if failure is not None:
+        raise SolveError(f"{summary['error']} (the converged part is in {out})", solved)
+    logger.info(f"{scene.name}: {len(solved.rows)} points, {summary['wall_time_s']:.2f} s -> {out}")
+    return summary
+
+
+def write_unsolved(out: Path, name: str, params, error: BaseException, comm) -> dict:
+    """The summary of a run stopped before its solve (while its scene was built): ``failed``
+    with the traceback, or ``interrupted``."""
+    out = Path(out)
+    previous = outdir.files_of_last_run(out) if comm.rank == 0 else []
+    if isinstance(error, interrupt.Interrupted):
+        summary = {"scene": name, "status": "interrupted", "error": f"interrupted by {error}"}
+    else:
+        summary = {"scene": name, "status": "failed", "error": f"internal error: {type(error).__name__}: {error}",
+                   "traceback": "".join(traceback.format_exception(error))}
+    summary["parameters"] = asdict(params) if is_dataclass(params) else {}
+    with interrupt.deferred():
+        _write_summary(out, summary, [], previous, comm)
+    return summary
+
+
+def _write_summary(out: Path, summary: dict, written: list[Path], previous: list[str], comm) -> None:
+    """Write ``summary.json`` with the list of the run's files, and remove the files of the
+    run before that are not among them (rank 0)."""
+    names = {str(p.relative_to(out)) for p in written if p.is_relative_to(out)}
+    summary["files"] = sorted(names | {"summary.json"})
+    io.write_json(out / "summary.json", summary, comm)
+    if comm.rank == 0:
+        outdir.remove_stale(out, previous, summary["files"])
+
+
+# -- arc-length scenes ----------------------------------------------------------------------
+def trace(scene, on_accept=None, run: Run | None = None, arc: ArcLength | None = None,
+          problem: Problem | None = None) -> tuple[Branch, Problem]:
+    """Build the arc-length problem of ``scene``, start it and follow the branch.
+
+    If the scene has a ``begin`` condition, the branch is first traced backwards
+    from the start to where ``begin`` turns positive (without switches, and
+    without field output), then forwards; the rows are joined in path order,
+    with negative arc lengths before the start. With a ``run`` the problem is the
+    run's (stage ``branch``); a :class:`ContinuationError` then carries the converged
+    part as ``err.branch`` and the problem as ``err.problem``. A given ``arc`` and ``problem``
+    (built for this scene's model, e.g. kept by :class:`bcfem.run.session.Session`) are reused.
+    """
+    arc = arc or ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
+    if problem is None:
+        arguments = (scene.ctx, scene.terms, scene.bcs)
+        options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
+                       energy_scale=scene.load_scale)
+        problem = run.problem("branch", *arguments, **options) if run else Problem(*arguments, scene.prefix, **options)
+    back = None
+    try:
+        start(arc, problem, scene)
+        forward = arc.forward_sign(problem, scene.observe, scene.grows) if scene.grows else 1
+        if scene.begin is not None:
+            origin = problem.save()
+            back = arc.trace(problem, scene.observe, scene.begin, scene.progress_keys,
+                             guard=scene.guard, direction=-forward)
+            problem.restore(origin)
+            arc.restart_row(problem)
+        branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
+                           guard=scene.guard, switches=scene.switches, direction=forward)
+    except ContinuationError as err:
+        err.problem = problem
+        if not hasattr(err, "branch"):
+            err.branch = Branch()
+        raise
+    if back is not None:
+        branch = _join(back, branch)
+    return branch, problem
+
+
+def _join(back: Branch, forward: Branch) -> Branch:
+    """A backward and a forward branch from the same start, as one branch in path order."""
+    def flip(values):
+        return {**values, "s": -values["s"]}
+
+    for lp in back.limit_points:
+        lp.s, lp.values = -lp.s, flip(lp.values)
+    return Branch(rows=[flip(r) for r in reversed(back.rows[1:])] + forward.rows,
+                  limit_points=list(reversed(back.limit_points)) + forward.limit_points,
+                  events=forward.events,
+                  newton_iterations=back.newton_iterations + forward.newton_iterations,
+                  failed_steps=back.failed_steps + forward.failed_steps,
+                  wall_time_s=back.wall_time_s + forward.wall_time_s)
+
+
+def branch_of(scene) -> Branch:
+    """Trace ``scene`` and destroy its PETSc objects at once, also when the trace fails.
+
+    For scripts that need only the branch; left to the garbage collector, the
+    objects can deadlock at exit under MPI.
+    """
+    try:
+        branch, problem = trace(scene)
+    except ContinuationError as error:
+        if getattr(error, "problem", None) is not None:
+            error.problem.close()
+        raise
+    problem.close()
+    return branch
+
+
+def start(arc, problem, scene, attempts: int = 6) -> None:
+    """Converge the first point; if the guess is too far, start closer to the unloaded state.
+
+    Each retry halves the starting load level of the scene's guess (a flatter
+    cap is closer to its equilibrium); the last failure is raised.
+    """
+    for attempt in range(attempts):
+        try:
+            arc.start(problem, scene.start(0.5**attempt))
+            return
+        except ContinuationError:
+            if attempt == attempts - 1:
+                raise

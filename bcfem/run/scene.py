@@ -1,0 +1,109 @@
+"""What a scene is: a geometry and states (the context), energy terms, boundary
+conditions, a load path and its observables. Scenes build one; the runner
+solves it. Nothing here knows which physics a scene holds.
+
+Every scene has a ``name``, declared ``stages`` (its PETSc prefixes are
+``bcfem_<name>_<stage>_``), ``params``, ``columns``, ``fields``, ``solve(run)`` and
+``figures(rows, summary)`` (:mod:`bcfem.run.runner` drives it). :class:`Scene` is the
+arc-length scene, with the one stage ``branch``; a staged scene declares its own.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from bcfem.params import ContinuationParams
+
+
+@dataclass
+class Scene:
+    """A composed model, ready to solve.
+
+    Attributes:
+        name: the registry name (also the PETSc prefix ``bcfem_<name>_``).
+        ctx: context with the mesh, displacement and kinematics.
+        terms: energy terms; only these are compiled.
+        bcs: Dirichlet conditions.
+        load: name of the real-space state that is the load parameter.
+        start: ``start(fraction)`` sets an initial guess at ``fraction`` of the
+            scene's starting level and returns the starting load.
+        observe: collective; observables of the current state (normalised).
+        end: the path ends where this turns positive.
+        begin: if given, the path is first traced backwards from the start until
+            this turns positive (for branches whose small-load end cannot be
+            reached from a simple guess).
+        grows: the observable that increases along the forward path (orients the
+            first tangent).
+        progress_keys: observables shown in the progress line.
+        petsc_options: scene defaults for PETSc.
+        fields: functions written to the VTX file.
+        continuation: step control of the load path.
+        plots: PNG file name -> (x column, y column, x label, y label).
+        load_scale: typical magnitude of the load, for the arc-length norm.
+        guard: message for a converged state that is physically out of range, else None.
+        rows: replacement residual rows of states (e.g. a held or free debond radius).
+        switches: model changes along the path (``bcfem.path.continuation.Switch``).
+        summarize: extra entries of ``summary.json`` from the finished branch.
+        params: the scene's parameters (recorded in ``summary.json``).
+        columns: the columns of ``branch.csv``.
+    """
+
+    name: str
+    ctx: object
+    terms: list
+    bcs: list
+    load: str
+    start: Callable[[float], float]
+    observe: Callable[[], dict]
+    end: Callable[[dict], float]
+    progress_keys: tuple[str, ...] = ()
+    begin: Callable[[dict], float] | None = None
+    grows: str | None = None
+    petsc_options: dict = field(default_factory=dict)
+    fields: list = field(default_factory=list)
+    continuation: ContinuationParams = field(default_factory=ContinuationParams)
+    plots: dict = field(default_factory=dict)
+    load_scale: float = 1.0
+    guard: Callable[[dict], str | None] | None = None
+    rows: dict = field(default_factory=dict)
+    switches: list = field(default_factory=list)
+    summarize: Callable[[object], dict] | None = None
+    params: object = None
+    columns: list[str] | None = None
+
+    stages = ("branch",)
+
+    @property
+    def prefix(self) -> str:
+        return f"bcfem_{self.name}_branch_".replace("-", "_")
+
+    def solve(self, run) -> None:
+        """Trace the branch into ``run``: its rows, limit points, events and counts."""
+        from bcfem.path.continuation import ContinuationError
+        from bcfem.run.runner import trace
+
+        run.watch(self.fields)
+        try:
+            branch, problem = trace(self, run.on_accept, run)
+        except ContinuationError as err:
+            self._report(run, err.branch)
+            raise
+        self._report(run, branch)
+        self._branch = branch
+
+    def _report(self, run, branch) -> None:
+        run.rows[:] = branch.rows
+        run.results.update({
+            "limit_points": [{**lp.values, "kind": lp.kind} for lp in branch.limit_points],
+            "events": branch.events,
+            **(self.summarize(branch) if self.summarize and branch.rows else {}),
+            "failed_steps": branch.failed_steps})
+        self._branch = branch
+
+    def figures(self, rows, summary) -> dict:
+        """The scene's ``plots`` of the branch, limit points marked."""
+        from bcfem.plots import branch_figure
+
+        return {name: branch_figure(self._branch, x, y, xl, yl, title=self.name)
+                for name, (x, y, xl, yl) in self.plots.items()}

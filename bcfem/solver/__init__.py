@@ -1,0 +1,1 @@
+"""One blocked Newton problem: the builder, its SNES callbacks, solves and their shortcuts."""

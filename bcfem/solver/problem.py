@@ -1,0 +1,386 @@
+"""The problem builder: collect states, sum energies, derive blocks, own the SNES.
+
+No physics lives here. The residual of each state is the derivative of the
+total energy (the Lagrangian) in that state, unless a caller supplies a
+replacement row, as arc-length continuation does for its load parameter.
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from time import perf_counter
+
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx.fem.petsc import NonlinearProblem, assign
+
+from bcfem import interrupt
+from bcfem.physics.protocols import DiscreteTerm
+from bcfem.solver import options, petsc_events
+from bcfem.solver.algebra import ConvergedAlgebra
+from bcfem.solver.assembly import Assembly
+from bcfem.solver.newton_cycles import RepeatedIterates
+from bcfem.solver.reduced_lu import ReducedLU
+
+#: the parts of :attr:`Problem.timings`
+TIMED = ("assembly", "discrete_terms", "factorisation", "linear_solve", "newton", "stability")
+
+
+class Problem(ConvergedAlgebra):
+    """A blocked nonlinear problem over all states of a context.
+
+    Args:
+        ctx: the context; its states are collected after the energies are built. States
+            on another mesh (a field on a boundary submesh) are assembled through the
+            context's entity maps.
+        terms: :class:`~bcfem.physics.protocols.Term` s, whose energies are summed, and
+            :class:`~bcfem.physics.protocols.DiscreteTerm` s (e.g. self-contact), which add their
+            residual and tangent to the assembled system.
+        bcs: Dirichlet conditions on any state (also on a state on a submesh).
+        prefix: PETSc options prefix, e.g. ``bcfem_blister_rigid_``.
+        petsc_options: scene defaults, layered over bcfem's (the user's win).
+        rows: replacement residuals, keyed by state name: a UFL form, or a callable
+            that takes the (scaled) Lagrangian and returns one.
+        jit_options: passed to dolfinx (e.g. a cache directory).
+        energy_scale: the energy is divided by this before differentiation, so that
+            residuals are O(1) and absolute tolerances mean the same for every
+            parameter set (e.g. a strong surface tension).
+        line_search_fallbacks: SNES line searches to retry a failed solve with, in turn,
+            from the same initial state (e.g. ``("bt",)``: full Newton steps can cycle
+            between two contact active sets). Ignored when the user sets
+            ``snes_linesearch_type``: the user's choice wins.
+    """
+
+    def __init__(self, ctx, terms, bcs, prefix: str, petsc_options: dict | None = None,
+                 rows: dict | None = None, jit_options: dict | None = None, energy_scale: float = 1.0,
+                 line_search_fallbacks: tuple[str, ...] = ()):
+        self.ctx = ctx
+        self.terms = list(terms)
+        self.discrete = [t for t in self.terms if isinstance(t, DiscreteTerm)]
+        self.lagrangian = sum(t.energy(ctx) for t in self.terms if not isinstance(t, DiscreteTerm))
+        rows = rows or {}
+        # a Constant, so that a new scale does not mean a new compiled form
+        inverse_scale = fem.Constant(ctx.mesh, 1.0 / energy_scale)
+        self.inverse_scale = inverse_scale
+        self.bcs = list(bcs)
+        # the states the terms use (a state left from another stage, e.g. the pressure of
+        # chambers since merged, would be an empty row)
+        used = {id(c) for c in ufl.algorithms.extract_coefficients(self.lagrangian)}
+        self.names = [n for n, s in ctx.states.items() if id(s) in used or n in rows or s is ctx.u]
+        self.states = [ctx.states[n] for n in self.names]
+        #: the Lagrange-multiplier states the terms declare, in state order; a state whose
+        #: row is replaced (an arc-length load) is no multiplier of this problem
+        self.multipliers = declared_multipliers(self.terms, self.names, rows)
+        #: the tangent is symmetric: it is the Hessian of the Lagrangian (no row replaced, and
+        #: every discrete term declares ``symmetric_tangent``), so LDL^T may factorise it
+        self.symmetric_tangent = not rows and all(t.symmetric_tangent for t in self.discrete)
+        scaled = inverse_scale * self.lagrangian
+        residuals = [(rows[n] if isinstance(rows[n], ufl.Form) else rows[n](scaled)) if n in rows else
+                     ufl.derivative(scaled, s, ufl.TestFunction(s.function_space))
+                     for n, s in zip(self.names, self.states)]
+        self.prefix = prefix
+        self.options = options.merge(prefix, petsc_options)
+        with options.untouched():
+            self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
+                                         petsc_options_prefix=prefix, petsc_options=self.options,
+                                         jit_options=jit_options, entity_maps=ctx.entity_maps or None)
+        self.snes: PETSc.SNES = self._nlp.solver
+        self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
+            else tuple(line_search_fallbacks)
+        self.iterations = 0
+        #: Newton iterations over every solve
+        self.newton_iterations = 0
+        self.reason = 0
+        #: how often cp's critical-point exit had to be finished by Newton steps
+        self.critical_point_exits = 0
+        #: why the last converged state was rejected by a term (None: it was not)
+        self.inadmissible = None
+        #: converged states rejected by a term so far, and the last reason
+        self.rejections, self.last_rejection = 0, None
+        #: Newton steps shortened by :meth:`bound_steps`
+        self.bounded_steps = 0
+        self._tangent_ksp = None
+        self._bounds: tuple[PETSc.Vec, ...] = ()
+        self._owned = []
+        self._kept = {}
+        for term in self.discrete:
+            term.bind(self)
+        #: seconds spent within Newton solves in: form assembly, discrete terms, the direct
+        #: solver's factorisations and solves, the rest of Newton (line search, active sets);
+        #: and in :meth:`timed` work (stability)
+        self.timings = dict.fromkeys(TIMED, 0.0)
+        self._timing_outside = 0
+        #: Newton solves that did not converge (each is a cut-back or a retry)
+        self.failed_solves = 0
+        self._first_norm = None  # the residual norm at the start of a solve (divergence test)
+        #: the SNES's residual and Jacobian callbacks
+        self.assembly = Assembly(self, residuals)
+        #: ends a solve whose iterates cycle (it would fail at snes_max_it)
+        self.cycles = RepeatedIterates(self.snes, self.comm)
+
+    def _guard_divergence(self, f: PETSc.Vec) -> None:
+        """PETSc's divergence test, which vinewtonrsls does not apply: a residual grown past
+        ``snes_divergence_tolerance`` (-3, PETSC_UNLIMITED: off) times the solve's first is reported as NaN, so the
+        solve stops (DIVERGED_FNORM_NAN) or the line search backs off, rather than iterating
+        to ``snes_max_it`` on a diverging path."""
+        if interrupt.received(self.comm):  # every rank ends the solve here; check() then stops it
+            f.set(np.nan)
+            return
+        norm = f.norm()
+        if self._first_norm is None:
+            self._first_norm = norm
+            return
+        divtol = self.snes.getDivergenceTolerance()
+        if divtol > 0 and norm > divtol * max(self._first_norm, np.finfo(float).tiny):
+            f.set(np.nan)
+
+    @contextmanager
+    def timed(self, key: str):
+        """Count the time of the enclosed work (assembly included) under ``key``."""
+        t0 = perf_counter()
+        self._timing_outside += 1
+        try:
+            yield
+        finally:
+            self._timing_outside -= 1
+            self.timings[key] = self.timings.get(key, 0.0) + perf_counter() - t0
+
+    def bound_steps(self) -> None:
+        """Shorten every Newton step to what the discrete terms with a ``step_bound(x, y)``
+        allow (e.g. a wall that must not pass through itself), before the line search.
+        Off by default: it changes the path wherever a full step would have been taken."""
+        bounded = [t for t in self.discrete if t.bounds_steps()]
+        if not bounded:
+            return
+
+        def precheck(x, y):
+            # one t on every rank, whatever part of x and y each term sees
+            t = self.comm.allreduce(min(term.step_bound(x, y) for term in bounded), op=MPI.MIN)
+            if t < 1.0:
+                self.bounded_steps += 1
+                y.scale(t)
+
+        self.snes.setLineSearchPreCheck(precheck)
+
+    def allow_new_nonzeros(self) -> None:
+        """Let a discrete term add entries outside the forms' sparsity pattern."""
+        self._nlp.A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+
+    @property
+    def comm(self):
+        return self.ctx.mesh.comm
+
+    def state(self, name: str) -> fem.Function:
+        return self.ctx.states[name]
+
+    def save(self) -> list[np.ndarray]:
+        """A copy of every state's local array (for restore on failure)."""
+        return [s.x.array.copy() for s in self.states]
+
+    def restore(self, saved: list[np.ndarray]) -> None:
+        for s, a in zip(self.states, saved):
+            s.x.array[:] = a
+
+    def solve(self, fallbacks: bool = True) -> bool:
+        """Newton from the current states, retried from them with each of the
+        ``line_search_fallbacks`` while it fails (unless ``fallbacks`` is False: a
+        continuation may rather cut its step first, since a line search can also land on
+        another branch). On failure the states are restored.
+
+        Returns:
+            True when SNES converged (reason > 0) to a finite state.
+        """
+        saved = self.save()
+        ok = self._newton()
+        line_search = self.snes.getLineSearch()
+        default = line_search.getType()
+        for fallback in self.line_search_fallbacks if fallbacks else ():
+            if ok:
+                break
+            self.restore(saved)
+            line_search.setType(fallback)
+            try:
+                ok = self._newton()
+            finally:
+                line_search.setType(default)
+        if not ok:
+            self.restore(saved)
+            self.failed_solves += 1
+        return ok
+
+    def _newton(self) -> bool:
+        x = self._nlp.x
+        assign(self.states, x)
+        self._snes_solve(x)
+        iterations = self.iterations
+        if self._critical_point_exit():
+            # cp left x where it stopped: finish from there with full Newton steps
+            self.critical_point_exits += 1
+            line_search = self.snes.getLineSearch()
+            chosen = line_search.getType()
+            line_search.setType("basic")
+            try:
+                self._snes_solve(x)
+            finally:
+                line_search.setType(chosen)
+            iterations += self.iterations
+        self.iterations = iterations
+        self.newton_iterations += iterations
+        ok = self.reason > 0 and np.isfinite(x.norm()) and not self._critical_point_exit()
+        # vinewtonrsls tests convergence on the reduced norm it reports, so only other VI
+        # types need the norm recomputed
+        if ok and self.iterations == 0 and self._bounds and self.snes.getType() != "vinewtonrsls":
+            self._check_vi_start(x)
+        self.inadmissible = None
+        if ok:
+            x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+            assign(x, self.states)
+            # an equilibrium can still be unphysical (a wall through itself): the terms that
+            # know their geometry may veto it, and the solve fails like any other
+            self.inadmissible = next((message for term in self.discrete
+                                      for message in [term.inadmissible()] if message), None)
+            ok = self.inadmissible is None
+            if not ok:
+                self.rejections += 1
+                self.last_rejection = self.inadmissible
+        if not ok:
+            # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
+            self.snes.getKSP().getPC().reset()
+        return ok
+
+    @property
+    def failure(self) -> str:
+        """Why the last solve failed, for messages."""
+        if self.inadmissible:
+            return f"converged to an inadmissible state: {self.inadmissible}"
+        if self.cycles.period:
+            return f"SNES reason {self.reason} (the Newton iterates repeat with period {self.cycles.period})"
+        return f"SNES reason {self.reason}"
+
+    def _snes_solve(self, x: PETSc.Vec) -> None:
+        self._first_norm = None
+        for term in self.discrete:
+            term.begin_solve()
+        t0 = perf_counter()
+        assembled = self.timings["assembly"] + self.timings["discrete_terms"]
+        solver = petsc_events.seconds()
+        try:
+            with interrupt.deferred():  # a raise in a callback would be a failed solve
+                self.snes.solve(None, x)
+            self.reason = self.snes.getConvergedReason()
+        except PETSc.Error:
+            self.reason = -100  # e.g. a NaN pivot from an inverted iterate
+        assembled = self.timings["assembly"] + self.timings["discrete_terms"] - assembled
+        for part, seconds in petsc_events.seconds().items():
+            self.timings[part] += seconds - solver[part]
+            assembled += seconds - solver[part]
+        self.timings["newton"] += perf_counter() - t0 - assembled
+        self.iterations = self.snes.getIterationNumber()
+        interrupt.check(self.comm)  # a signal is no failed solve: every rank stops here
+
+    def _critical_point_exit(self) -> bool:
+        """Whether the solve ended at an exit of PETSc's cp line search that is no convergence.
+
+        cp reports CONVERGED_FNORM_ABS when dot(F, Y) ~ 0 for the Newton step Y, and returns
+        with the state and its norm unchanged. With an indefinite tangent (past a limit point)
+        dot(F, Y) also vanishes where F does not, so that exit is convergence only when the
+        norm itself meets ``snes_atol``."""
+        return (self.reason == PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
+                and self.snes.getFunctionNorm() >= self.snes.getTolerances()[1])
+
+    def _check_vi_start(self, x: PETSc.Vec) -> None:
+        """Convergence in 0 iterations means the start already met ``snes_atol``. Check that
+        on the residual reduced to the unknowns not held at a bound: some SNESVI types
+        (``vinewtonssls`` on these bounds) report a zero norm there and would accept a
+        state that is no equilibrium."""
+        f = x.duplicate()
+        try:
+            self.snes.computeFunction(x, f)
+            lower, upper = (b.array for b in self._bounds)
+            # PETSc's own active set (SNESVIGetActiveSetIS): within 1e-8 of a bound, pushing on it
+            held = ((x.array <= lower + 1e-8) & (f.array >= 0)) | ((x.array >= upper - 1e-8) & (f.array <= 0))
+            norm = np.sqrt(self.comm.allreduce(float(np.sum(f.array[~held] ** 2))))
+        finally:
+            f.destroy()
+        atol = self.snes.getTolerances()[1]
+        if norm > 10.0 * atol:
+            raise RuntimeError(
+                f"SNES ({self.snes.getType()}) reported convergence in 0 iterations, but the residual "
+                f"off the bounds is {norm:.3e} > snes_atol = {atol:.1e}: this SNES type does not "
+                f"handle these bounds; use -{self.prefix}snes_type vinewtonrsls")
+
+    @property
+    def bounds(self) -> tuple[PETSc.Vec, ...]:
+        """(lower, upper) as blocked vectors once :meth:`set_bounds` was called, else ()."""
+        return self._bounds
+
+    def set_bounds(self, lower, upper) -> None:
+        """Variable bounds for a variational-inequality SNES (e.g. ``vinewtonrsls``):
+        one function per state for each side (use +-1e20 where unbounded)."""
+        self._bounds = (self.vector_from(lower), self.vector_from(upper))
+        self.snes.setVariableBounds(*self._bounds)
+        if (self.snes.getType() == "vinewtonrsls" and self.options.get("ksp_type") == "preonly"
+                and self.options.get("pc_type") == "lu" and not options.user_set(self.prefix, "pc_type")):
+            # one symbolic analysis for the whole path, not one per Newton iteration
+            pc = self.snes.getKSP().getPC()
+            solver = self.options.get("pc_factor_mat_solver_type", "mumps")
+            # MUMPS's LDL^T of a symmetric indefinite tangent: a fifth cheaper than its LU
+            factor = "cholesky" if self.symmetric_tangent and solver == "mumps" else "lu"
+            pc.setType("python")
+            pc.setPythonContext(ReducedLU(self.snes, solver, self.prefix, factor))
+
+    def kept(self, key: str, make):
+        """The resource ``key`` of this problem, made by ``make()`` on first use and closed
+        with the problem (:meth:`own`): e.g. a factorisation kept along a path."""
+        if key not in self._kept:
+            self._kept[key] = self.own(make())
+        return self._kept[key]
+
+    def own(self, resource):
+        """Close ``resource`` (anything with a collective ``close()``, such as a
+        :class:`~bcfem.stability.modes.ModeAnalysis` of this problem's states) with this problem;
+        returns it."""
+        self._owned.append(resource)
+        return resource
+
+    def close(self) -> None:
+        """Destroy the PETSc objects now, in the same order on every rank.
+
+        Left to the garbage collector, their collective destruction can happen in
+        a different order on different ranks and deadlock at exit.
+        """
+        for resource in self._owned:
+            resource.close()
+        self._owned, self._kept = [], {}
+        if self._tangent_ksp is not None:
+            self._tangent_ksp.destroy()
+            self._tangent_ksp = None
+        if self._nlp is not None and self.snes.getKSP().getPC().getType() == "python":
+            self.snes.getKSP().getPC().getPythonContext().destroy()  # ReducedLU (set_bounds)
+        self.assembly.destroy()
+        for vec in self._bounds:
+            vec.destroy()
+        self._bounds = ()
+        if self._nlp is not None:
+            del self._nlp
+            self._nlp = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def declared_multipliers(terms, names: list[str], rows: dict) -> tuple[str, ...]:
+    """The multiplier states the terms declare (``multipliers``, none if absent), in the
+    order of ``names``; each must be a state."""
+    declared = {n for t in terms for n in getattr(t, "multipliers", ())}
+    missing = declared.difference(names)
+    if missing:
+        raise ValueError(f"terms declare the multipliers {sorted(missing)}, which no term's energy created")
+    return tuple(n for n in names if n in declared and n not in rows)

@@ -1,0 +1,97 @@
+"""The reduced-space Newton step of ``vinewtonrsls``, factorised without a new analysis.
+
+``vinewtonrsls`` solves J_II y_I = -F_I on the unknowns I not held at a bound. It extracts
+J_II as a new matrix at every iteration, so a direct solver redoes its symbolic analysis
+(ordering, elimination tree) every time. The same step solves the full-size system with
+the held rows and columns replaced by the identity, [J_II 0; 0 1] y = [F_I; 0], whose
+sparsity never changes: one analysis serves a whole path, and each iteration pays the
+numerical factorisation alone.
+"""
+
+from __future__ import annotations
+
+from mpi4py import MPI
+from petsc4py import PETSc
+
+import numpy as np
+
+from bcfem.solver.kept_copy import KeptCopy
+
+
+class ReducedLU:
+    """A petsc4py ``python`` PC for the KSP of a ``vinewtonrsls`` SNES (see the module).
+
+    Args:
+        snes: the SNES; its Jacobian is assembled at the iterate when the PC is set up.
+        solver_type: the factorisation package (e.g. ``mumps``).
+        prefix: options prefix of the inner factorisation (the problem's, so that the
+            user's ``-<prefix>mat_mumps_*`` options apply to it).
+        factor: ``lu``, or ``cholesky`` (LDL^T, for MUMPS a symmetric indefinite one) when the
+            Jacobian is symmetric: the identity rows and columns keep the symmetry.
+    """
+
+    def __init__(self, snes: PETSc.SNES, solver_type: str, prefix: str, factor: str = "lu"):
+        self.snes = snes
+        self.ksp = PETSc.KSP().create(snes.comm)
+        self.ksp.setOptionsPrefix(prefix)
+        self.ksp.setType("preonly")
+        self.ksp.getPC().setType(factor)
+        self.ksp.getPC().setFactorSolverType(solver_type)
+        self._copy = KeptCopy()
+        self._inactive: np.ndarray | None = None
+        self._held: np.ndarray | None = None
+        self._scatter: PETSc.Scatter | None = None
+        self._rhs = self._solution = None
+        #: symbolic analyses done (a new sparsity of the Jacobian needs one)
+        self.analyses = 0
+
+    def setUp(self, pc: PETSc.PC) -> None:
+        if self._copy.update(self.snes.getJacobian()[0]):  # a discrete term added entries
+            self._destroy_vectors()
+            self._rhs, self._solution = self.matrix.createVecs()
+            self.analyses += 1
+        inactive = self.snes.getVIInactiveSet().getIndices()
+        changed = self._inactive is None or not np.array_equal(inactive, self._inactive)
+        # the scatter is rebuilt collectively: on every rank when the set changed on any
+        if self.snes.comm.tompi4py().allreduce(changed, op=MPI.LOR):
+            start, end = self.matrix.getOwnershipRange()
+            self._inactive = inactive.copy()
+            self._held = np.setdiff1d(np.arange(start, end, dtype=inactive.dtype), inactive)
+            if self._scatter is not None:
+                self._scatter.destroy()
+                self._scatter = None
+        self.matrix.zeroRowsColumns(self._held, diag=1.0)
+        self.ksp.setOperators(self.matrix)
+        self.ksp.setUp()
+
+    def apply(self, pc: PETSc.PC, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        if self._scatter is None:
+            index_set = PETSc.IS().createGeneral(self._inactive, comm=self.snes.comm)
+            self._scatter = PETSc.Scatter().create(self._rhs, index_set, x, None)
+            index_set.destroy()
+        self._rhs.zeroEntries()
+        self._scatter.scatter(x, self._rhs, PETSc.InsertMode.INSERT_VALUES, PETSc.ScatterMode.REVERSE)
+        self.ksp.solve(self._rhs, self._solution)
+        self._scatter.scatter(self._solution, y, PETSc.InsertMode.INSERT_VALUES, PETSc.ScatterMode.FORWARD)
+
+    def reset(self, pc: PETSc.PC) -> None:
+        """vinewtonrsls resets its KSP when the inactive set changes: the analysis stays."""
+
+    @property
+    def matrix(self) -> PETSc.Mat | None:
+        """The kept copy of the Jacobian that is factorised."""
+        return self._copy.matrix
+
+    def _destroy_vectors(self) -> None:
+        for obj in (self._rhs, self._solution, self._scatter):
+            if obj is not None:
+                obj.destroy()
+        self._rhs = self._solution = self._scatter = None
+
+    def destroy(self, pc: PETSc.PC | None = None) -> None:
+        """Free the factorisation and drop the SNES: the SNES owns this context through its
+        PC, so holding it on would keep both alive (called by :meth:`Problem.close`)."""
+        self._destroy_vectors()
+        self._copy.destroy()
+        self.ksp.destroy()
+        self.snes = None

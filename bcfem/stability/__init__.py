@@ -1,0 +1,1 @@
+"""Stability of an equilibrium: the tangent's inertia and non-axisymmetric Fourier modes."""

@@ -1,0 +1,154 @@
+r"""Loss of stability from the inertia of the tangent (Sylvester's law).
+
+The Hessian of the Lagrangian is a saddle-point matrix: multiplier states (a
+mixed solid pressure, a gas pressure, a volume constraint) each contribute one
+negative eigenvalue when their constraint rows are independent, whatever the
+stability of the body. So the number of unstable directions of the energy
+(restricted to the constraints) is
+
+    negative eigenvalues of the tangent - number of multiplier unknowns,
+
+counted from an LDLᵀ factorisation (MUMPS, ICNTL(13) = 1 so that the count is
+global under MPI). Unknowns held at a bound of a variational inequality
+(contact) are fixed for the count: the body cannot move into the obstacle.
+Only axisymmetric modes are seen by an axisymmetric model; :mod:`bcfem.stability.modes`
+checks the non-axisymmetric ones.
+"""
+
+from __future__ import annotations
+
+from petsc4py import PETSc
+
+import numpy as np
+
+from bcfem.solver.kept_copy import KeptCopy
+
+
+def unstable_modes(problem, multipliers: list[str] | None = None, active_tol: float = 1e-9,
+                   held: tuple[str, ...] = ()) -> int:
+    """Number of unstable directions at the current (converged) state of ``problem``.
+
+    Args:
+        multipliers: names of the multiplier states to subtract (those not in the problem
+            are skipped); default: the ones its terms declare, ``problem.multipliers``.
+        active_tol: relative distance from a bound within which an unknown is held there.
+        held: states held fixed for the count, e.g. an arc-length load parameter (a platen
+            displacement: the count is then that of displacement control), whose row is no
+            equilibrium row.
+    """
+    with problem.timed("stability"):
+        negative = _negative_modes(problem, active_tol, held)
+    if multipliers is None:
+        multipliers = problem.multipliers
+    return negative - problem.global_size([n for n in multipliers if n in problem.names])
+
+
+def _negative_modes(problem, active_tol: float, held: tuple[str, ...]) -> int:
+    """Negative eigenvalues of the tangent with the unknowns at a bound and the states
+    ``held`` held."""
+    rows = problem.held_rows(active_tol)
+    jacobian, x = problem.jacobian()
+    if held:
+        start, end = x.getOwnershipRange()
+        fixed = np.concatenate([problem.global_indices(name) for name in held])
+        rows = np.union1d(rows, fixed[(fixed >= start) & (fixed < end)]).astype(PETSc.IntType)
+    tangent = problem.kept("tangent_inertia", lambda: TangentInertia(problem.prefix + "inertia_"))
+    return tangent.negative(jacobian, rows)
+
+
+class TangentInertia:
+    """Negative eigenvalues of a problem's tangent with some rows and columns held, counted
+    along a path: the tangent's values go into one kept copy, so MUMPS analyses its pattern
+    once and every later count is a numerical factorisation. A discrete term that adds
+    entries (new contacts) changes the pattern, and the copy and its analysis are made
+    afresh. Destroy with :meth:`close` (collective)."""
+
+    def __init__(self, prefix: str):
+        self.prefix = prefix
+        self._copy = KeptCopy()
+        self._inertia = Inertia(prefix)
+        #: symbolic analyses done
+        self.analyses = 0
+
+    def negative(self, jacobian: PETSc.Mat, rows: np.ndarray) -> int:
+        """Negative eigenvalues of ``jacobian`` with ``rows`` (owned, global) and their
+        columns replaced by those of the identity."""
+        if self._copy.update(jacobian):
+            self._inertia.close()  # its analysis belonged to the matrix before
+            self.analyses += 1
+        self._copy.matrix.zeroRowsColumns(rows, diag=1.0)
+        return self._inertia.negative(self._copy.matrix)
+
+    def close(self) -> None:
+        self._inertia.close()
+        self._copy.destroy()
+
+
+def negative_eigenvalues(A: PETSc.Mat, prefix: str) -> int:
+    """The number of negative eigenvalues of the symmetric matrix ``A`` (all ranks), from
+    MUMPS' LDLᵀ factorisation; options under ``prefix`` (e.g. ``-PREFIX mat_mumps_icntl_14``)."""
+    inertia = Inertia(prefix)
+    try:
+        return inertia.negative(A)
+    finally:
+        inertia.close()
+
+
+class Inertia:
+    """Negative eigenvalues of symmetric matrices that share one matrix object (and so one
+    sparsity pattern): MUMPS analyses the pattern at the first count, and every later count
+    is a numerical LDLᵀ factorisation only. Destroy with :meth:`close` (collective)."""
+
+    def __init__(self, prefix: str):
+        self.prefix = prefix
+        self._ksp: PETSc.KSP | None = None
+        self._matrix: PETSc.Mat | None = None
+
+    def negative(self, A: PETSc.Mat) -> int:
+        """Negative eigenvalues of ``A``, a matrix whose values may have changed since the
+        last count (a new matrix object means a new analysis)."""
+        A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
+        fresh = self._ksp is None or A.handle != self._matrix.handle
+        if fresh:
+            self._create(A)
+        try:
+            self._ksp.setOperators(A)  # new values: a numerical factorisation only
+            self._ksp.setUp()  # MUMPS reads its options at the analysis
+        except PETSc.Error:
+            self.close()  # a failed factorisation would otherwise stick to the PC
+            raise
+        finally:
+            if fresh:
+                for key, _ in self._OPTIONS:
+                    PETSc.Options().delValue(self.prefix + key)
+        negative, _, _ = self._ksp.getPC().getFactorMatrix().getInertia()
+        return int(negative)
+
+    # no ScaLAPACK root (ICNTL 13): a global inertia; detect null pivots rather than fail (24)
+    _OPTIONS = (("mat_mumps_icntl_13", 1), ("mat_mumps_icntl_24", 1))
+
+    def _create(self, A: PETSc.Mat) -> None:
+        self.close()
+        opts = PETSc.Options()
+        for key, value in self._OPTIONS:
+            opts[self.prefix + key] = value
+        ksp = PETSc.KSP().create(A.getComm())
+        try:
+            ksp.setOptionsPrefix(self.prefix)
+            ksp.setType("preonly")
+            pc = ksp.getPC()
+            pc.setType("cholesky")
+            pc.setFactorSolverType("mumps")
+            ksp.setOperators(A)
+            ksp.setFromOptions()
+        except BaseException:
+            ksp.destroy()
+            for key, _ in self._OPTIONS:
+                opts.delValue(self.prefix + key)
+            raise
+        self._ksp, self._matrix = ksp, A
+
+    def close(self) -> None:
+        if self._ksp is not None:
+            self._ksp.destroy()
+        self._ksp = self._matrix = None
