@@ -17,12 +17,14 @@ MPI_PYTEST := PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytes
 # the fast tier: term battery, toys, every scene on a tiny mesh, CLI contracts, MPI on small cases
 test: venv
 	$(BIN)/ruff check .
+	$(BIN)/mypy
 	$(PYTEST) --durations=10 tests
 	$(MPI_PYTEST) -m "mpi and not slow and not convergence and not demo" tests
 
 # everything: adds full crater cycles, convergence studies and the demos (serial and on NP ranks)
 test-all: venv
 	$(BIN)/ruff check .
+	$(BIN)/mypy
 	BCFEM_FULL_DRAW=1 $(PYTEST) -m "not study" --durations=20 tests
 	$(MPI_PYTEST) -m "mpi and not study" tests
 

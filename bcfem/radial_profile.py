@@ -154,12 +154,12 @@ def _table(text: str, path: Path, width: float) -> RadialProfile:
         raise ValueError(f"cannot read the table {str(path)!r} ({err.strerror})") from None
     rows = []
     for number, line in enumerate(lines, 1):
-        line = line.split("#", 1)[0].replace(",", " ").split()
-        if not line:
+        fields = line.split("#", 1)[0].replace(",", " ").split()
+        if not fields:
             continue
-        if len(line) != 2:
-            raise ValueError(f"{path}:{number}: a row is 'R value' (got {len(line)} fields)")
-        rows.append([_finite(f, f"{path}:{number}") for f in line])
+        if len(fields) != 2:
+            raise ValueError(f"{path}:{number}: a row is 'R value' (got {len(fields)} fields)")
+        rows.append([_finite(f, f"{path}:{number}") for f in fields])
     if not rows:
         raise ValueError(f"the table {str(path)!r} has no rows (R value)")
     radii, values = (list(c) for c in zip(*rows))

@@ -79,7 +79,7 @@ class WallSelfContact(DiscreteTerm):
     symmetric_tangent = True  # the Hessian of the penalty energy
     name = "self_contact"
     #: (node, segment) pairs held together whatever the gap's sign (:meth:`bond`)
-    bonded = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
+    bonded: tuple[np.ndarray, np.ndarray] = (np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64))
 
     def __init__(self, facet_tags, boundary: int | tuple[int, ...], modulus: float, penalty: float = 1e3,
                  depth: float = 0.25):
@@ -89,7 +89,7 @@ class WallSelfContact(DiscreteTerm):
         self.facet_tags, self.boundary = facet_tags, boundary
         self.modulus, self.penalty, self.depth = modulus, penalty, depth
         self.active = 0  # pairs in contact at the last evaluation
-        self.facing = None  # (owned nodes, segments): who faces whom, frozen per solve
+        self.facing: np.ndarray | None = None  # (owned nodes, segments): who faces whom, frozen per solve
 
     # -- set-up ---------------------------------------------------------------------------
     def bind(self, problem) -> None:
@@ -131,14 +131,14 @@ class WallSelfContact(DiscreteTerm):
             for k in chain:
                 nodes[index[2 * k]] = (index[2 * k + 1], *X[k], fixed[2 * k], fixed[2 * k + 1])
         # every rank holds the whole boundary: nodes by their global r-row
-        all_nodes = {}
+        all_nodes: dict[int, list] = {}
         for part in comm.allgather(nodes):
             for key, (zrow, r, z, fr, fz) in part.items():
                 entry = all_nodes.setdefault(key, [zrow, r, z, fr, fz])
                 entry[3], entry[4] = entry[3] or fr, entry[4] or fz
         rows = np.array(sorted(all_nodes), dtype=np.int64)
         position = {row: i for i, row in enumerate(rows)}
-        table = np.array([all_nodes[row] for row in rows], dtype=float).reshape(-1, 5)
+        table = np.array([all_nodes[row] for row in rows], dtype=np.float64).reshape(-1, 5)
         self.rows = np.column_stack([rows, table[:, 0].astype(np.int64)])  # (n, 2) global rows (r, z)
         self.fixed = table[:, 3:5].astype(bool)
         self.X = table[:, 1:3]
@@ -173,7 +173,7 @@ class WallSelfContact(DiscreteTerm):
         self.xi_min = np.where(ends[self.segments[:, 0]], -0.5, 0.0)
         self.xi_max = np.where(ends[self.segments[:, 1]], 1.5, 1.0)
         # a node never touches a segment at or next to it
-        neighbours = [set() for _ in range(n)]
+        neighbours: list[set[int]] = [set() for _ in range(n)]
         for a, b in self.segments:
             neighbours[a].update((a, b))
             neighbours[b].update((a, b))
@@ -251,7 +251,7 @@ class WallSelfContact(DiscreteTerm):
         their gap to the segment's line in both directions (frictionless: the node slides
         along it), so that the contact cannot open (non-separable contact)."""
         self.bonded = (np.asarray(nodes, dtype=np.int64), np.asarray(segments, dtype=np.int64))
-        self._last_search = None
+        self._last_search: tuple | None = None
 
     def contacts(self):
         """:meth:`pairs` at the current positions (collective: the positions are gathered)."""

@@ -21,7 +21,9 @@ density per unit reference area through :meth:`AxisymmetricMembrane.integral`.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import cached_property
+from typing import Any
 
 from mpi4py import MPI
 
@@ -34,6 +36,9 @@ from bcfem.mpi import global_sum
 class ReferenceMean:
     """The reference measure and the mean over it, for kinematics whose ``integral(density)``
     integrates over the reference body (fixed: no unknown in the reference map)."""
+
+    def integral(self, density, region: int | None = None) -> ufl.Form:
+        raise NotImplementedError
 
     @cached_property
     def reference_measure(self) -> float:
@@ -78,8 +83,10 @@ class AxisymmetricMembrane:
         mesh = u.function_space.mesh
         self.u = u
         xi = ufl.SpatialCoordinate(mesh)[0]
-        self.reference = reference or (lambda x: (x, 1))
-        self.R, self.J = self.reference(xi)
+        self.reference: Callable[[Any], tuple[Any, Any]] = reference or (lambda x: (x, 1))
+        R, J = self.reference(xi)  # R(ξ) and dR/dξ
+        self.R: Any = R
+        self.J: Any = J
         self.r = self.R + u[0]
         self.z = u[1]
         self.dr = 1 + u[0].dx(0) / self.J

@@ -27,7 +27,7 @@ volume per reference area is the difference of their enclosed-volume densities,
 
 The membrane terms of chapter 3 (:class:`~bcfem.physics.energies.MembraneStrain`,
 :class:`~bcfem.physics.energies.SurfaceTension`, :class:`~bcfem.physics.energies.PressureVolume`) read
-only these members, so :class:`OnSurface` evaluates any of them on a surface: the energy
+only these members, so :class:`bcfem.physics.composite.OnSurface` evaluates any of them on a surface: the energy
 of the term with ``ctx.kin`` replaced by the surface's kinematics. No energy is written
 twice, and every residual is still the energy's derivative.
 """
@@ -35,7 +35,6 @@ twice, and every residual is still the energy's derivative.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import ufl
 
@@ -119,76 +118,3 @@ class LiquidGap:
     def volume_density(self):
         """Liquid volume per reference area: the exact difference of the enclosed volumes."""
         return self.upper.volume_density - self.lower.volume_density
-
-
-class SurfaceContext:
-    """``ctx`` seen through another kinematics: every member is the context's, except ``kin``."""
-
-    def __init__(self, ctx, kin):
-        self._ctx = ctx
-        self.kin = kin
-
-    def __getattr__(self, name):
-        return getattr(self._ctx, name)
-
-
-@dataclass(frozen=True)
-class OnSurface:
-    r"""The energy of a membrane term evaluated on a surface: ``term.energy`` with ``ctx.kin``
-    replaced by ``surface`` (a :class:`MembraneSurface` or :class:`LiquidGap`).
-
-    E.g. ``OnSurface(SurfaceTension(0.5, "gamma_ls"), wetted)`` is
-    :math:`\gamma_{ls} A_{ls} = \gamma_{ls}\int \lambda_r^s\lambda_\theta^s\,dA` of the
-    deformed wetted substrate, and ``OnSurface(MembraneStrain(NeoHookean()), bonded)`` the
-    strain energy of the membrane bonded to the substrate (a surface hyperelastic term).
-    The term's states and run-time constants are the context's own.
-
-    Attributes:
-        term: a term that reads only the members of :class:`MembraneSurface`.
-        surface: the kinematics it is evaluated with.
-        label: names the surface in the term's ``name``.
-    """
-
-    term: object
-    surface: object = field(compare=False)
-    label: str = "surface"
-
-    @property
-    def name(self) -> str:
-        return f"{self.term.name}@{self.label}"
-
-    @property
-    def multipliers(self) -> tuple[str, ...]:
-        return tuple(getattr(self.term, "multipliers", ()))
-
-    def energy(self, ctx):
-        return self.term.energy(SurfaceContext(ctx, self.surface))
-
-
-@dataclass(frozen=True)
-class Scaled:
-    r"""A term's energy times a run-time constant, :math:`k\,\Pi_{term}` (e.g. a substrate's
-    modulus :math:`k = \mu_s R_0/(\mu_f t_0)`, lowered during a run from a stiff start).
-
-    Attributes:
-        term: any term with one form as its energy.
-        constant: the name of the run-time constant k.
-        value: its value on creation, > 0.
-    """
-
-    term: object
-    constant: str
-    value: float
-
-    @property
-    def name(self) -> str:
-        return f"{self.constant}*{self.term.name}"
-
-    @property
-    def multipliers(self) -> tuple[str, ...]:
-        return tuple(getattr(self.term, "multipliers", ()))
-
-    def energy(self, ctx):
-        k = ctx.constant(self.constant, self.value)
-        form = self.term.energy(ctx)
-        return ufl.Form([i.reconstruct(integrand=k * i.integrand()) for i in form.integrals()])

@@ -14,10 +14,15 @@ unit-agnostic.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import ufl
 
 from bcfem.params import require
+
+if TYPE_CHECKING:
+    from bcfem.physics.context import Context
+    from bcfem.physics.protocols import Hyperelastic, Shape, SolidMaterial
 
 
 @dataclass(frozen=True)
@@ -29,7 +34,7 @@ class MembraneStrain:
         thickness: reference thickness t0 [m]; 1 in normalised units.
     """
 
-    material: object
+    material: Hyperelastic
     thickness: float = 1.0  # [m]
     name = "membrane_strain"
     multipliers = ()
@@ -37,7 +42,7 @@ class MembraneStrain:
     def __post_init__(self):
         require(self.thickness > 0, f"thickness must be > 0 (got {self.thickness})")
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         kin = ctx.kin
         return kin.integral(self.thickness * self.material.strain_energy(kin.I1))
 
@@ -74,13 +79,13 @@ class SurfaceTension:
     gamma: float
     name: str = "gamma_l"
     region: int | None = None
-    profile: object = None
+    profile: Shape | None = None
     multipliers = ()
 
     def __post_init__(self):
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         gamma = ctx.constant(self.name, self.gamma)
         if self.profile is not None:
             gamma = gamma * self.profile.shape(ctx.kin.R)
@@ -107,7 +112,7 @@ class PressureVolume:
     name = "pressure_volume"
     multipliers = ("pressure",)
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         p = ctx.real_state("pressure")
         v_target = ctx.constant("volume_target", 0.0)
         kin = ctx.kin
@@ -145,10 +150,10 @@ class WettedSubstrate:
     gamma: float
     name: str = "gamma_wet"
     region: int | None = None
-    profile: object = None
+    profile: Shape | None = None
     multipliers = ()
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         gamma = ctx.constant(self.name, self.gamma)
         if self.profile is not None:
             gamma = gamma * self.profile.shape(ctx.kin.r)
@@ -170,13 +175,13 @@ class SolidStrain:
             per cell, as Q1-P0).
     """
 
-    material: object
+    material: SolidMaterial
     region: int | None = None
     pressure_degree: int = 1
     name = "solid_strain"
     multipliers = ("solid_pressure",)
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         p = ctx.field_state("solid_pressure", self.pressure_degree)
         return ctx.kin.integral(self.material.density(ctx.kin, p), self.region)
 
@@ -200,6 +205,6 @@ class SolidSurfaceEnergy:
     def __post_init__(self):
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         gamma = ctx.constant(self.name, self.gamma)
         return ctx.kin.surface_integral(gamma * ctx.kin.surface_stretch, self.boundary)

@@ -21,11 +21,16 @@ measure so that each term is one form.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import ufl
 from dolfinx import fem
 
 from bcfem.mpi import global_sum
+
+if TYPE_CHECKING:
+    from bcfem.physics.context import Context
+    from bcfem.physics.protocols import Enclosure
 
 
 def _spread(ctx, value):
@@ -50,7 +55,7 @@ class SealedFluid:
         pressure_name: name of the pressure state.
     """
 
-    cavity: object
+    cavity: Enclosure
     sealed_volume: float
     pressure_name: str = "fluid_pressure"
     name = "sealed_fluid"
@@ -72,7 +77,7 @@ class IdealGas(SealedFluid):
 
     name = "ideal_gas"
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         p, amount = self.unknowns(ctx)
         return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, amount * ufl.ln(p))
 
@@ -83,7 +88,7 @@ class IncompressibleLiquid(SealedFluid):
 
     name = "incompressible_liquid"
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         p, amount = self.unknowns(ctx)
         # a zero (p - 1)^2 term puts the pressure's diagonal into the sparsity pattern,
         # which PETSc's VI reduction and zeroRowsColumns need
@@ -96,7 +101,7 @@ class HeldPressure:
     """A cavity at the pressure ``pressure`` (over p_a) whatever its volume: a liquid that has
     cavitated, its vapour at the vapour pressure. No unknown: the volume is free."""
 
-    cavity: object
+    cavity: Enclosure
     pressure: float
     pressure_name: str = "fluid_pressure"
     multipliers = ()
@@ -105,7 +110,7 @@ class HeldPressure:
     def name(self) -> str:
         return f"{self.pressure_name}_held"
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         p = ctx.constant(self.name)
         p.value = self.pressure
         return -(p - 1.0) * self.cavity.volume(ctx.kin)
@@ -115,11 +120,11 @@ class HeldPressure:
 class Vacuum:
     """An empty cavity: p = 0 inside, the ambient pressure's work s·V (s = ``vacuum_load``)."""
 
-    cavity: object
+    cavity: Enclosure
     name = "vacuum"
     multipliers = ()
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         return ctx.constant("vacuum_load", 0.0) * self.cavity.volume(ctx.kin)
 
 

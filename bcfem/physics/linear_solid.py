@@ -15,11 +15,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import ufl
 
 from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.params import require
+
+if TYPE_CHECKING:
+    from bcfem.physics.context import Context
 
 
 class SubstrateKinematics(AxisymmetricSolid):
@@ -76,7 +80,7 @@ class LinearElasticity:
         """1/K [1/Pa]."""
         return 3 * (1 - 2 * self.nu) / (2 * self.mu * (1 + self.nu))
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         kin = ctx.kin
         p = ctx.field_state("solid_pressure", self.pressure_degree)
         eps = kin.strain
@@ -106,7 +110,7 @@ class LinearSurfaceTension:
     def __post_init__(self):
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         gamma = ctx.constant(self.name, self.gamma)
         slope = ufl.grad(ctx.u)[1, 0]
         return ctx.kin.surface_integral(0.5 * gamma * slope**2, self.boundary)
@@ -146,7 +150,7 @@ class LinearDropLoads:
         require(0 < self.theta < math.pi, f"theta must be in (0, pi) (got {self.theta})")
         require(self.contact_radius > 0, f"contact_radius must be > 0 (got {self.contact_radius})")
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         kin, u = ctx.kin, ctx.u
         gamma = ctx.constant("gamma_l", self.gamma_l)
         normal = gamma * math.sin(self.theta)

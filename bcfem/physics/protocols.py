@@ -58,7 +58,12 @@ class ProblemView(Protocol):
     (:class:`bcfem.solver.problem.Problem` offers these)."""
 
     ctx: Context
-    comm: MPI.Comm
+
+    @property
+    def comm(self) -> MPI.Comm:
+        """The problem's communicator."""
+        ...
+
     #: the scale a term's residual and tangent are multiplied by, as the forms are
     inverse_scale: fem.Constant
 
@@ -193,3 +198,27 @@ def find_term[T](terms: Iterable, kind: type[T]) -> T:
         raise LookupError(f"expected exactly one {kind.__name__} among the terms, found {len(found)} "
                           f"(terms: {names})")
     return found[0]
+
+
+class Hyperelastic(Protocol):
+    """A strain energy per unit reference volume as a function of I1 (:mod:`bcfem.physics.materials`)."""
+
+    def strain_energy(self, I1): ...
+
+
+class SolidMaterial(Protocol):
+    """A solid's energy density at a displacement and a mixed pressure (a nearly incompressible solid)."""
+
+    def density(self, kin, pressure): ...
+
+
+class Shape(Protocol):
+    """A dimensionless radial profile f(R) of an interface energy (:mod:`bcfem.radial_profile`)."""
+
+    def shape(self, R): ...
+
+
+class Enclosure(Protocol):
+    """What encloses a fluid: its current volume as a form in the kinematics (:mod:`bcfem.physics.cavity`)."""
+
+    def volume(self, kin) -> ufl.Form: ...

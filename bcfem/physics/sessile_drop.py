@@ -24,10 +24,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import ufl
 
 from bcfem.params import require
+
+if TYPE_CHECKING:
+    from bcfem.physics.context import Context
 
 
 def cap_volume(radius: float, theta: float) -> float:
@@ -63,7 +67,7 @@ class SphericalCapDrop:
         require(self.volume > 0, f"volume must be > 0 (got {self.volume})")
         require(self.contact_radius > 0, f"contact_radius must be > 0 (got {self.contact_radius})")
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         kin, u = ctx.kin, ctx.u
         gamma = ctx.constant("gamma_l", self.gamma_l)
         v0 = ctx.constant("drop_volume", self.volume)

@@ -9,11 +9,15 @@ stable state a relaxation falls into, never the state.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import ufl
 from dolfinx import fem
 
 from bcfem.mpi import global_sum
+
+if TYPE_CHECKING:
+    from bcfem.physics.context import Context
 
 
 class Viscosity:
@@ -28,7 +32,7 @@ class Viscosity:
         self.previous = fem.Function(u.function_space, name="previous_displacement")
         self._increment = None
 
-    def energy(self, ctx):
+    def energy(self, ctx: Context) -> ufl.Form:
         c = ctx.constant("viscosity", 0.0)
         self.c = c
         d = ctx.u - self.previous

@@ -6,6 +6,8 @@ the discrete terms' global rows all go through these, on the problem's own PETSc
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from petsc4py import PETSc
 
 import numpy as np
@@ -14,11 +16,35 @@ from dolfinx.fem.petsc import assign
 
 from bcfem.mpi import global_dofs
 
+if TYPE_CHECKING:
+    from mpi4py import MPI
+
+    from dolfinx.fem.petsc import NonlinearProblem
+
+    from bcfem.physics.context import Context
+
 
 class ConvergedAlgebra:
     """Vectors, index maps and Jacobian solves of a :class:`bcfem.solver.problem.Problem` (which
     provides ``states``, ``names``, ``bcs``, ``ctx``, ``comm``, ``prefix``, ``snes``,
     ``_nlp``, ``_bounds`` and ``_tangent_ksp``)."""
+
+    states: list[fem.Function]
+    names: list[str]
+    bcs: list
+    ctx: Context
+    prefix: str
+    snes: PETSc.SNES
+    _nlp: NonlinearProblem
+    _bounds: tuple[PETSc.Vec, ...]
+    _tangent_ksp: PETSc.KSP | None
+
+    @property
+    def comm(self) -> MPI.Comm:
+        return self.ctx.mesh.comm
+
+    def state(self, name: str) -> fem.Function:
+        return self.ctx.states[name]
 
     def global_indices(self, name: str) -> np.ndarray:
         """The global row of every local (unrolled, ghosts included) dof of state ``name``."""

@@ -83,7 +83,7 @@ class Problem(ConvergedAlgebra):
                      ufl.derivative(scaled, s, ufl.TestFunction(s.function_space))
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
-        self.options = options.merge(prefix, petsc_options)
+        self.options = options.merge(prefix, petsc_options or {})
         with options.untouched():
             self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
                                          petsc_options_prefix=prefix, petsc_options=self.options,
@@ -94,19 +94,20 @@ class Problem(ConvergedAlgebra):
         self.iterations = 0
         #: Newton iterations over every solve
         self.newton_iterations = 0
-        self.reason = 0
+        self.reason: int = 0
         #: how often cp's critical-point exit had to be finished by Newton steps
         self.critical_point_exits = 0
         #: why the last converged state was rejected by a term (None: it was not)
-        self.inadmissible = None
+        self.inadmissible: str | None = None
         #: converged states rejected by a term so far, and the last reason
-        self.rejections, self.last_rejection = 0, None
+        self.rejections = 0
+        self.last_rejection: str | None = None
         #: Newton steps shortened by :meth:`bound_steps`
         self.bounded_steps = 0
         self._tangent_ksp = None
         self._bounds: tuple[PETSc.Vec, ...] = ()
-        self._owned = []
-        self._kept = {}
+        self._owned: list = []
+        self._kept: dict = {}
         for term in self.discrete:
             term.bind(self)
         #: seconds spent within Newton solves in: form assembly, discrete terms, the direct
@@ -116,7 +117,7 @@ class Problem(ConvergedAlgebra):
         self._timing_outside = 0
         #: Newton solves that did not converge (each is a cut-back or a retry)
         self.failed_solves = 0
-        self._first_norm = None  # the residual norm at the start of a solve (divergence test)
+        self._first_norm: float | None = None  # the residual norm at the start of a solve (divergence test)
         #: the SNES's residual and Jacobian callbacks
         self.assembly = Assembly(self, residuals)
         #: ends a solve whose iterates cycle (it would fail at snes_max_it)
@@ -169,13 +170,6 @@ class Problem(ConvergedAlgebra):
     def allow_new_nonzeros(self) -> None:
         """Let a discrete term add entries outside the forms' sparsity pattern."""
         self._nlp.A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
-
-    @property
-    def comm(self):
-        return self.ctx.mesh.comm
-
-    def state(self, name: str) -> fem.Function:
-        return self.ctx.states[name]
 
     def save(self) -> list[np.ndarray]:
         """A copy of every state's local array (for restore on failure)."""
@@ -271,7 +265,7 @@ class Problem(ConvergedAlgebra):
         try:
             with interrupt.deferred():  # a raise in a callback would be a failed solve
                 self.snes.solve(None, x)
-            self.reason = self.snes.getConvergedReason()
+            self.reason = int(self.snes.getConvergedReason())
         except PETSc.Error:
             self.reason = -100  # e.g. a NaN pivot from an inverted iterate
         assembled = self.timings["assembly"] + self.timings["discrete_terms"] - assembled

@@ -41,7 +41,8 @@ class ReducedLU:
         self._inactive: np.ndarray | None = None
         self._held: np.ndarray | None = None
         self._scatter: PETSc.Scatter | None = None
-        self._rhs = self._solution = None
+        self._rhs: PETSc.Vec | None = None
+        self._solution: PETSc.Vec | None = None
         #: symbolic analyses done (a new sparsity of the Jacobian needs one)
         self.analyses = 0
 
@@ -69,6 +70,7 @@ class ReducedLU:
             index_set = PETSc.IS().createGeneral(self._inactive, comm=self.snes.comm)
             self._scatter = PETSc.Scatter().create(self._rhs, index_set, x, None)
             index_set.destroy()
+        assert self._rhs is not None  # set up first
         self._rhs.zeroEntries()
         self._scatter.scatter(x, self._rhs, PETSc.InsertMode.INSERT_VALUES, PETSc.ScatterMode.REVERSE)
         self.ksp.solve(self._rhs, self._solution)
@@ -78,8 +80,10 @@ class ReducedLU:
         """vinewtonrsls resets its KSP when the inactive set changes: the analysis stays."""
 
     @property
-    def matrix(self) -> PETSc.Mat | None:
-        """The kept copy of the Jacobian that is factorised."""
+    def matrix(self) -> PETSc.Mat:
+        """The kept copy of the Jacobian that is factorised (after the first setUp)."""
+        if self._copy.matrix is None:
+            raise RuntimeError("the reduced LU has no matrix before its first set-up")
         return self._copy.matrix
 
     def _destroy_vectors(self) -> None:

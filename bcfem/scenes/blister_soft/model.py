@@ -52,10 +52,11 @@ from dolfinx import default_scalar_type, fem
 from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
 from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.kinematics.submesh import BoundaryPatch
-from bcfem.kinematics.surfaces import LiquidGap, MembraneSurface, OnSurface, Scaled
+from bcfem.kinematics.surfaces import LiquidGap, MembraneSurface
 from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
 from bcfem.path.branch import Switch
 from bcfem.physics.bcs import component
+from bcfem.physics.composite import OnSurface, Scaled
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SolidStrain, SurfaceTension
 from bcfem.physics.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
