@@ -40,7 +40,7 @@ from bcfem.log import progress
 from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
 from bcfem.path.branch import Branch, ContinuationError, LimitPoint, Switch
-from bcfem.path.roots import bracketed_root
+from bcfem.path.locate import locate, locate_fold
 
 # the records of a branch live in bcfem.path.branch; they are importable from here too
 __all__ = ["ArcLength", "Branch", "ContinuationError", "LimitPoint", "Mean", "Switch"]
@@ -300,7 +300,7 @@ class ArcLength:
             fired = next((sw for sw in pending if sw.function(values) < 0 <= sw.function(new_values)), None)
             if fired:
                 # end the step at the switch (the old model holds up to there) ...
-                sigma = self._locate(problem, base, tangent, ds, lambda: fired.function(observe()),
+                sigma = locate(self, problem, base, tangent, ds, lambda: fired.function(observe()),
                                      fired.function(values), fired.function(new_values))
                 switch_values = observe()
                 if end(switch_values) >= 0:
@@ -311,12 +311,12 @@ class ArcLength:
                     ds, accepted, new_values = sigma, problem.save(), {**switch_values, "s": s + sigma}
                     new_tangent = self._tangent(problem)
             if not fired and end(new_values) >= 0:
-                sigma = self._locate(problem, base, tangent, ds,
+                sigma = locate(self, problem, base, tangent, ds,
                                      lambda: end(observe()), end(values), end(new_values))
                 last = {**observe(), "s": s + sigma}
                 last_state, last_tangent = problem.save(), self._tangent(problem)
                 if np.sign(last_tangent[il][0]) != np.sign(tangent[il][0]):
-                    branch.limit_points.append(self._locate_fold(
+                    branch.limit_points.append(locate_fold(self,
                         problem, base, tangent, sigma, s, observe, float(last_tangent[il][0])))
                     problem.restore(last_state)
                 self._record(branch, last, on_accept)
@@ -333,7 +333,7 @@ class ArcLength:
                     raise ContinuationError(f"step {step}: {message}")
                 continue
             if np.sign(new_tangent[il][0]) != np.sign(tangent[il][0]):
-                branch.limit_points.append(self._locate_fold(
+                branch.limit_points.append(locate_fold(self,
                     problem, base, tangent, ds, s, observe, float(new_tangent[il][0])))
                 problem.restore(accepted)
             if fired:
@@ -391,41 +391,3 @@ class ArcLength:
         branch.rows.append(values)
         if on_accept:
             on_accept(values)
-
-    def _locate(self, problem, base, tangent, ds, f_now, f0, f1) -> float:
-        """Root in (0, ds) of ``f_now`` along the hyperplanes from ``base``; states end at the root."""
-
-        def f(sigma):
-            if sigma <= 0:
-                return f0
-            if sigma >= ds:
-                return f1
-            if not self._solve_at(problem, base, tangent, sigma):
-                raise ContinuationError(f"Newton failed inside an accepted step (sigma={sigma:g})")
-            value = f_now()
-            if not math.isfinite(value):
-                raise ContinuationError(f"the located function is not finite inside a step (sigma={sigma:g})")
-            return value
-
-        try:
-            sigma = bracketed_root(f, 0.0, ds, xtol=self.params.event_tol)
-            if not self._solve_at(problem, base, tangent, sigma):
-                raise ContinuationError(f"Newton failed at a located event (sigma={sigma:g})")
-            return sigma
-        except ContinuationError:
-            # Newton cannot reach points inside the step (a kink of a contact's branch): the
-            # event is the step's end, located to within the step only
-            self.unlocated += 1
-            if not self._solve_at(problem, base, tangent, ds):
-                raise ContinuationError(f"Newton failed again at an accepted step's end (ds={ds:g})") from None
-            return ds
-
-    def _locate_fold(self, problem, base, tangent, ds, s, observe, f1) -> LimitPoint:
-        """The point in (0, ds) where the tangent's load component vanishes."""
-        il = self._index(problem)[1]
-        f0 = float(tangent[il][0])
-        sigma = self._locate(problem, base, tangent, ds,
-                             lambda: float(self._tangent(problem)[il][0]), f0, f1)
-        values = observe()
-        values["s"] = s + sigma
-        return LimitPoint(kind="max" if f0 > 0 else "min", s=s + sigma, values=values)
