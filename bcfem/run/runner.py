@@ -251,6 +251,9 @@ def run(scene, out: Path, comm, plots: bool = True) -> dict:
             failure, solved, summary = err, err.run, err.run.summary
         with interrupt.deferred():  # the results of a signalled run are written all the same
             io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
+            tables = scene.tables(solved.rows, summary) if hasattr(scene, "tables") else {}
+            for name, table in tables.items():  # the scene's declared tables
+                io.write_csv(out / name, table, comm)
             if plots and comm.rank == 0 and solved.rows:
                 for name, fig in scene.figures(solved.rows, summary).items():
                     io.save_figure(fig, out / name, comm)

@@ -101,6 +101,10 @@ class Scene:
             "failed_steps": branch.failed_steps})
         self._branch = branch
 
+    def tables(self, rows, summary) -> dict[str, list[dict]]:
+        """Tables besides ``branch.csv`` (none)."""
+        return {}
+
     def figures(self, rows, summary) -> dict:
         """The scene's ``plots`` of the branch, limit points marked."""
         from bcfem.plots import branch_figure

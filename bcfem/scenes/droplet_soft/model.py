@@ -31,7 +31,6 @@ import math
 import numpy as np
 from dolfinx import fem
 
-from bcfem import io
 from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
 from bcfem.mpi import PointEvaluator, real_value, sample
 from bcfem.path.stepping import LoadPath, SteppingError
@@ -268,8 +267,6 @@ class DropletSoft:
         p = self.params
         self.profile = self.surface_profile()
         last = run.rows[-1] if run.rows else None
-        if run.fields_path is not None:
-            io.write_csv(run.fields_path.parent / "profile.csv", self.profile, self.comm)
         if last is None:
             return
         keys = ("ridge_height", "ridge_height_normalised", "cusp_angle_deg", "liquid_angle_deg", "vapour_angle_deg",
@@ -290,6 +287,10 @@ class DropletSoft:
             theory = ridge.ridge_height(p.c, p.nu, self.theta_young, p.thickness or None) * p.gamma_l
             run.results["ridge_height_theory"] = theory
             run.results["ridge_height_error"] = (last["ridge_height"] - theory) / abs(theory)
+
+    def tables(self, rows, summary) -> dict[str, list[dict]]:
+        """``profile.csv``: the top surface at the last accepted state."""
+        return {"profile.csv": self.profile}
 
     def figures(self, rows, summary) -> dict:
         from bcfem.scenes.droplet_soft.report import profile_figure
