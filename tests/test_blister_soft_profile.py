@@ -22,7 +22,7 @@ import pytest
 import ufl
 from dolfinx import fem
 from helpers import bcfem, refused, same_loads
-from test_blister_soft import SMALL, W, assert_battery, taylor_of
+from soft_blister import SMALL, W, assert_battery, taylor_of
 
 from bcfem import global_sum
 from bcfem.io import read_csv

@@ -7,7 +7,7 @@ from petsc4py import PETSc
 
 import numpy as np
 import pytest
-from test_modes import Block
+from mode_block import Block
 
 pytestmark = pytest.mark.mpi
 

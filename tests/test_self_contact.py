@@ -312,7 +312,7 @@ def overlapping(comm):
 
 
 def contact_taylor(comm):
-    from test_terms import taylor
+    from helpers import taylor
 
     problem, contact, energy, dx = overlapping(comm)
     with problem:
@@ -337,7 +337,7 @@ def test_assembled_contact_residual_and_tangent_are_derivatives():
     free rows, scaled by 1/energy_scale) is the derivative of the scaled energy, and its
     tangent that of the residual: remainders O(e^2). Under mpirun the pairs span ranks,
     and the numbers are those of one rank."""
-    from test_terms import assert_second_order
+    from helpers import assert_second_order
 
     result = contact_taylor(MPI.COMM_WORLD)
     assert result["active"] > 10

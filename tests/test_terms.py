@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 import ufl
 from dolfinx import fem, mesh
+from helpers import assert_second_order, rate, taylor
 
 from bcfem import (
     AxisymmetricMembrane,
@@ -306,61 +307,10 @@ def test_material_validation_names_the_parameter(kwargs, word):
         Gent(**kwargs)
 
 
-# -- Taylor tests through the problem --------------------------------------------------------
-def taylor(problem, energy, dx, eps0=1e-2, halvings=4, observe=None):
-    """Taylor remainders of the assembled residual F and tangent J of ``problem`` at its
-    current states x0, along the blocked vector ``dx``:
-
-        |E(x0 + e dx) - E(x0) - e F(x0).dx|   and   ||F(x0 + e dx) - F(x0) - e J(x0) dx||
-
-    for e = eps0, eps0/2, ... (``energy()``: the scaled energy at the states the problem's
-    functions hold). ``observe()``, if given, is called at every e (e.g. the active set).
-    The states are restored. Returns a dict of the remainders, of numbers that do not
-    depend on the rank count, and of this rank's part of F(x0) (``residual``)."""
-    x0 = problem.vector_from(problem.states)
-    f0, f, x, jdx = (problem.new_vector() for _ in range(4))
-    try:
-        problem.snes.computeFunction(x0, f0)
-        E0 = energy()
-        A, _ = problem.jacobian()
-        A.mult(dx, jdx)
-        dE = f0.dot(dx)
-        seen, energy_remainders, residual_remainders = [], [], []
-        for k in range(halvings):
-            eps = eps0 * 0.5**k
-            x.waxpy(eps, dx, x0)
-            problem.snes.computeFunction(x, f)  # also puts x into the states
-            energy_remainders.append(abs(energy() - E0 - eps * dE))
-            f.axpy(-1.0, f0)
-            f.axpy(-eps, jdx)
-            residual_remainders.append(f.norm())
-            if observe is not None:
-                seen.append(observe())
-        problem.functions_from(x0, problem.states)
-        return {"energy": E0, "dE": dE, "F": f0.norm(), "Jdx": jdx.norm(), "eps0": eps0,
-                "energy_remainders": energy_remainders, "residual_remainders": residual_remainders,
-                "seen": seen, "residual": f0.array.copy()}
-    finally:
-        for v in (x0, f0, f, x, jdx):
-            v.destroy()
 
 
-def rate(remainders, size):
-    """The observed rates of convergence of the remainders; None when all of them are at
-    round-off relative to ``size`` (a linear residual has a zero tangent remainder)."""
-    r = np.asarray(remainders)
-    if r.max() <= 1e-11 * size:
-        return None
-    return np.log2(r[:-1] / r[1:])
 
 
-def assert_second_order(result, tol=0.05):
-    """Both remainders fall like e^2 (or the tangent's is round-off: a linear residual)."""
-    e_rates = rate(result["energy_remainders"], abs(result["energy"]) + result["eps0"] * abs(result["dE"]))
-    f_rates = rate(result["residual_remainders"], result["F"] + result["eps0"] * result["Jdx"])
-    assert e_rates is not None and np.all(np.abs(e_rates - 2) < tol), e_rates
-    assert f_rates is None or np.all(np.abs(f_rates - 2) < tol), f_rates
-    return e_rates, f_rates
 
 
 def configure(ctx, term):
