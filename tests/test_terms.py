@@ -3,8 +3,9 @@
 Every term of the library is here (:func:`test_the_battery_covers_every_term`):
 
 * its value at a configuration where the energy is known in closed form (a
-  uniform stretch of the membrane or a homogeneous deformation of a small
-  axisymmetric solid, whose cavity below is a cylinder);
+  uniform stretch of the membrane, a homogeneous deformation of a small
+  axisymmetric solid, whose cavity below is a cylinder, or a polynomial one of a
+  substrate under a drop);
 * Taylor tests through a :class:`bcfem.solver.problem.Problem` holding the term
   alone, in all its states (displacement and multipliers): the assembled
   residual is the derivative of the energy and the assembled tangent that of
@@ -39,11 +40,14 @@ from bcfem import (
     global_sum,
 )
 from bcfem.kinematics.solid import AxisymmetricSolid
-from bcfem.physics import energies, fluids, viscosity
+from bcfem.physics import composite, energies, fluids, linear_solid, sessile_drop, viscosity
 from bcfem.physics.cavity import Cavity
+from bcfem.physics.composite import OnSurface, Scaled
 from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy, WettedSubstrate
 from bcfem.physics.fluids import HeldPressure, IdealGas, IncompressibleLiquid, Vacuum
+from bcfem.physics.linear_solid import LinearDropLoads, LinearElasticity, LinearSurfaceTension, SubstrateKinematics
 from bcfem.physics.materials import NearlyIncompressibleNeoHookean
+from bcfem.physics.sessile_drop import SphericalCapDrop
 from bcfem.physics.viscosity import Viscosity
 from bcfem.solver.problem import Problem
 
@@ -80,7 +84,25 @@ def solid_ctx(comm=MPI.COMM_WORLD, cells=3):
     return Context(u, AxisymmetricSolid(u, quadrature_degree=4, facet_tags=facet_tags))
 
 
+def substrate_ctx(comm=MPI.COMM_WORLD, cells=4):
+    """A substrate [0, 1] x [-1, 0] under a drop: its top Z = 0 wetted for R < R_DROP, dry beyond
+    (small-strain kinematics: :class:`SubstrateKinematics`)."""
+    msh = mesh.create_rectangle(comm, [[0.0, -1.0], [1.0, 0.0]], [cells, cells], mesh.CellType.triangle)
+    msh.topology.create_connectivity(1, 2)
+    top = mesh.locate_entities_boundary(msh, 1, lambda x: np.isclose(x[1], 0.0))
+    middle = mesh.compute_midpoints(msh, 1, top)
+    tags = np.where(middle[:, 0] < R_DROP, WETTED, DRY).astype(np.int32)
+    order = np.argsort(top)
+    V = fem.functionspace(msh, ("Lagrange", 2, (2,)))
+    u = fem.Function(V, name="displacement")
+    kin = SubstrateKinematics(u, quadrature_degree=6, facet_tags=mesh.meshtags(msh, 1, top[order], tags[order]))
+    return Context(u, kin)
+
+
 SOLID_MATERIAL = NearlyIncompressibleNeoHookean(mu=1.0, kappa=KAPPA)
+#: the substrate's top: wetted for R < R_DROP (the drop's contact radius), dry beyond
+WETTED, DRY, R_DROP = 4, 5, 0.5
+THETA = 1.1  # the drop's contact angle
 
 #: term -> (body, factory(ctx)); the body is "membrane" or "solid"
 TERMS = {
@@ -96,26 +118,36 @@ TERMS = {
     "vacuum": ("solid", lambda ctx: Vacuum(Cavity(CAVITY))),
     "held-pressure": ("solid", lambda ctx: HeldPressure(Cavity(CAVITY), HELD)),
     "viscosity": ("solid", lambda ctx: Viscosity(ctx.u)),
+    "on-surface": ("membrane", lambda ctx: OnSurface(SurfaceTension(0.7), ctx.kin, "itself")),
+    "scaled": ("membrane", lambda ctx: Scaled(MembraneStrain(NeoHookean()), "stiffness", 2.5)),
+    "linear-elasticity": ("substrate", lambda ctx: LinearElasticity(mu=1.0, nu=0.3)),
+    "linear-surface-tension": ("substrate", lambda ctx: LinearSurfaceTension(0.6, WETTED)),
+    "linear-drop-loads": ("substrate", lambda ctx: LinearDropLoads(0.8, THETA, R_DROP, WETTED, math.cos(THETA))),
+    "spherical-cap-drop": ("substrate", lambda ctx: SphericalCapDrop(0.8, 0.05, R_DROP, WETTED)),
 }
+#: terms linear in their states: their Taylor remainders are round-off
+LINEAR = {"linear-drop-loads"}
+BODIES = {"membrane": make_ctx, "solid": solid_ctx, "substrate": substrate_ctx}
 
 #: a cavity's held pressure (a liquid's vapour pressure, over p_a)
 HELD = 0.023
 #: values of the states and run-time constants in the Taylor tests (where a term uses them)
-REAL_STATES = {"pressure": 1.3, "fluid_pressure": 1.4}
+REAL_STATES = {"pressure": 1.3, "fluid_pressure": 1.4, "cap_slope": 0.45, "drop_pressure": 1.1}
 CONSTANTS = {"volume_target": 0.3, "viscosity": 1.7, "vacuum_load": 0.6}
 
 
 # -- the battery covers the library ----------------------------------------------------------
 def library_terms():
     """Every class of the term modules that has an energy."""
-    return {cls for module in (energies, fluids, viscosity) for _, cls in inspect.getmembers(module, inspect.isclass)
+    modules = (energies, fluids, viscosity, composite, linear_solid, sessile_drop)
+    return {cls for module in modules for _, cls in inspect.getmembers(module, inspect.isclass)
             if cls.__module__ == module.__name__ and hasattr(cls, "energy")}
 
 
 def test_the_battery_covers_every_term():
     tested = set()
     for body, factory in TERMS.values():
-        ctx = make_ctx() if body == "membrane" else solid_ctx()
+        ctx = BODIES[body]()
         term = factory(ctx)
         assert isinstance(term, Term) and isinstance(ctx.kin, Kinematics), type(term).__name__
         tested.add(type(term))
@@ -313,6 +345,65 @@ def test_material_validation_names_the_parameter(kwargs, word):
 
 
 
+# -- closed forms: terms made of terms, and the substrate under a drop -----------------------
+def test_composite_terms_are_their_terms_energies():
+    """OnSurface on the body's own kinematics is the term; Scaled is k times it (uniform stretch)."""
+    ctx = make_ctx()
+    lam = 1.3
+    ctx.u.interpolate(lambda x: np.vstack([(lam - 1) * x[0], 0 * x[0]]))
+    on = global_sum(fem.form(TERMS["on-surface"][1](ctx).energy(ctx)))
+    scaled = global_sum(fem.form(TERMS["scaled"][1](ctx).energy(ctx)))
+    assert on == pytest.approx(0.7 * math.pi * lam**2, rel=1e-12)
+    assert scaled == pytest.approx(2.5 * math.pi * uniform_stretch_W(NeoHookean(), lam), rel=1e-12)
+
+
+def substrate_energy(name, u, states=None):
+    ctx = substrate_ctx()
+    term = TERMS[name][1](ctx)
+    form = fem.form(term.energy(ctx))
+    ctx.u.interpolate(u)
+    for state, value in (states or {}).items():
+        ctx.states[state].x.array[:] = value
+    return global_sum(form)
+
+
+def test_linear_elasticity_of_a_homogeneous_strain():
+    """u = (a R, e Z), p = K tr(eps): W = mu eps:eps + lambda/2 tr(eps)^2 over the volume pi."""
+    a, e, mu, nu = 0.02, -0.03, 1.0, 0.3
+    K, lam = 2 * mu * (1 + nu) / (3 * (1 - 2 * nu)), 2 * mu * nu / (1 - 2 * nu)
+    tr = 2 * a + e
+    got = substrate_energy("linear-elasticity", lambda x: np.vstack([a * x[0], e * x[1]]), {"solid_pressure": K * tr})
+    assert got == pytest.approx(math.pi * (mu * (2 * a**2 + e**2) + 0.5 * lam * tr**2), rel=1e-12)
+
+
+def test_linear_surface_tension_of_a_paraboloid():
+    """u_z = c R^2 on the wetted top: (gamma/2) int (2 c R)^2 dA = pi gamma c^2 R0^4."""
+    c = 0.3
+    got = substrate_energy("linear-surface-tension", lambda x: np.vstack([0 * x[0], c * x[0] ** 2]))
+    assert got == pytest.approx(math.pi * 0.6 * c**2 * R_DROP**4, rel=1e-12)
+
+
+def test_linear_drop_loads_on_a_polynomial_displacement():
+    """u = (a R, c R^2): the ring's pull, the Laplace pressure and the tangential line force,
+    -2 pi R0 g sin(th) c R0^2 + (2 g sin(th)/R0) pi c R0^4 / 2 + g cos(th) 2 pi R0 a R0."""
+    a, c, g = 0.04, 0.3, 0.8
+    got = substrate_energy("linear-drop-loads", lambda x: np.vstack([a * x[0], c * x[0] ** 2]))
+    s = math.sin(THETA)
+    want = -math.pi * g * s * c * R_DROP**3 + 2 * math.pi * g * math.cos(THETA) * a * R_DROP**2
+    assert got == pytest.approx(want, rel=1e-12)
+
+
+def test_spherical_cap_drop_is_its_cap_and_ignores_a_rigid_lift():
+    """On the flat substrate, lifted rigidly by d (the liquid's volume does not change):
+    gamma_l pi R0^2 (1 + t^2) - p (pi/6 R0^3 t (3 + t^2) - V0)."""
+    t, p, g, V0 = 0.45, 1.1, 0.8, 0.05
+    for d in (0.0, 0.07):
+        got = substrate_energy("spherical-cap-drop", lambda x: np.vstack([0 * x[0], d + 0 * x[0]]),
+                               {"cap_slope": t, "drop_pressure": p})
+        want = g * math.pi * R_DROP**2 * (1 + t * t) - p * (math.pi / 6 * R_DROP**3 * t * (3 + t * t) - V0)
+        assert got == pytest.approx(want, rel=1e-12)
+
+
 def configure(ctx, term):
     """A non-homogeneous configuration with every state the term has away from zero, and a
     perturbation of every state (the same closed-form functions on every rank count)."""
@@ -344,7 +435,7 @@ def configure(ctx, term):
 
 def term_taylor(name, comm):
     body, factory = TERMS[name]
-    ctx = make_ctx(comm=comm) if body == "membrane" else solid_ctx(comm)
+    ctx = BODIES[body](comm=comm)
     term = factory(ctx)
     prefix = f"bcfem_test_terms_{name.replace('-', '_')}_"
     with Problem(ctx, [term], [], prefix) as problem:
@@ -361,7 +452,7 @@ def test_taylor_residual_and_tangent_are_derivatives(name):
     """E(x + e dx) - E - e F.dx and F(x + e dx) - F - e J dx are O(e^2) in every state;
     on 2 ranks the numbers are those of one rank."""
     result = term_taylor(name, MPI.COMM_WORLD)
-    assert_second_order(result)
+    assert_second_order(result, linear=name in LINEAR)
     if MPI.COMM_WORLD.size > 1:
         alone = term_taylor(name, MPI.COMM_SELF)
         for key in ("energy", "dE", "F", "Jdx"):
