@@ -87,10 +87,7 @@ class Crater:
                         np.asarray(rmap).reshape(-1)[bottom])
         #: the platen displacement as an unknown (``path = fundamental``), else None
         self.platen_state = None
-        lift = None
-        if getattr(params, "path", "stable") == "fundamental":
-            self.platen_state = self.ctx.real_state("platen_displacement")
-            lift = ufl.as_vector([0, self.platen_state * self._platen_shape(Vz, msh.comm)])
+        lift = self._lift(V, msh.comm)
         if self.bottom_contact:
             facets = self._tag_sealed_bottom(msh, facets)
         self.ctx.kin = AxisymmetricSolid(self.u, quadrature_degree=element.quadrature, cell_tags=data.cell_tags,
@@ -148,6 +145,14 @@ class Crater:
         viscosity used only while relaxing past an instability."""
         optional = [t for t in (self.surface, self.self_contact) if t is not None]
         return [*self.solids, *optional, *fluid, self.viscosity]
+
+    def _lift(self, V, comm):
+        """None, or the UFL vector added to u in the kinematics: the platen's with ``path =
+        fundamental`` (a subclass may add its own)."""
+        if getattr(self.params, "path", "stable") != "fundamental":
+            return None
+        self.platen_state = self.ctx.real_state("platen_displacement")
+        return ufl.as_vector([0, self.platen_state * self._platen_shape(V.sub(1).collapse()[0], comm)])
 
     def _platen_shape(self, Vz, comm) -> fem.Function:
         """phi(Z), 0 up to the wall's top and rising linearly to 1 on the top face: the lift

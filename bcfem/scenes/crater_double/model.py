@@ -22,10 +22,10 @@ import ufl
 from dolfinx import fem, mesh
 
 from bcfem.geometry.double_crater import BOTTOM, OUTER, PROTUBERANCE, ROOF, SIDEWALL, TOP, WALLS, create_mesh
-from bcfem.mpi import global_sum
+from bcfem.mpi import global_sum, real_value
 from bcfem.physics.bcs import component
 from bcfem.physics.cavity import Cavity
-from bcfem.scenes.crater.model import CONTACT_GAP, Crater
+from bcfem.scenes.crater.model import CONTACT_GAP, SEAL_REACH, Crater
 from bcfem.scenes.crater.model import SEALED_BOTTOM as CRATER_SEALED_BOTTOM
 from bcfem.scenes.crater_double.chambers import ChamberSplit
 
@@ -71,16 +71,51 @@ class DoubleCrater(Crater):
         values[(facets.values == BOTTOM) & (crater.values == CRATER_SEALED_BOTTOM)] = SEALED_BOTTOM
         return mesh.meshtags(msh, 1, facets.indices, values)
 
+    @property
+    def spreads(self) -> bool:
+        """Whether the cell of an array spreads: its outer face is a mirror plane of the lattice, so
+        it moves as a whole, and it can only where neither the plate nor the platen holds the
+        faces' radii (else the rollers are exact)."""
+        p = self.params
+        return p.cell == "array" and p.plate == "frictionless" and p.top == "sliding"
+
+    def _lift(self, V, comm):
+        """The crater's, plus, for a cell that spreads, e g(r) e_r: the outer face r = R moves
+        to R (1 + e) with the lateral strain e (a real state; its residual, the derivative of
+        the energy, is the mean lateral traction on the face: zero). g rises linearly from 0 at
+        the walls (or at the seal's reach, ``bottom = contact``) to R at the face, so the
+        walls' unknowns, contact bounds and self-contact see no lift; any such g spans the
+        same discrete solutions as e r, since g is interpolated in the displacement's space."""
+        lift = super()._lift(V, comm)
+        #: the lateral strain as an unknown, else None
+        self.lateral_state = None
+        if not self.spreads:
+            return lift
+        r0, R = self.geometry.r0, self.geometry.specimen_radius
+        inner = r0 + (SEAL_REACH * (R - r0) if self.bottom_contact else 0.0)
+        shape = fem.Function(V.sub(0).collapse()[0], name="lateral_shape")
+        shape.interpolate(lambda x: R * np.clip((x[0] - inner) / (R - inner), 0.0, 1.0))
+        self.lateral_state = self.ctx.real_state("lateral_strain")
+        lateral = ufl.as_vector([self.lateral_state * shape, 0])
+        return lateral if lift is None else lift + lateral
+
+    def lateral_strain(self) -> float | None:
+        """The cell's lateral strain (0 on rollers), None for an isolated specimen."""
+        if self.params.cell == "isolated":
+            return None
+        return real_value(self.lateral_state) if self.lateral_state is not None else 0.0
+
     def _bcs(self, V, facets):
         """The crater's; no slip of the bottom face with ``plate='sticking'`` (with ``bottom =
-        contact`` also where it lifts), of the top face with ``top='bonded'``; the outer face on
-        rollers for the cell of an array (``cell='array'``)."""
+        contact`` also where it lifts), of the top face with ``top='bonded'``; for the cell of
+        an array, u_r held on the outer face beyond the lateral lift (rollers where it does not
+        spread, or with ``cell='array-confined'``)."""
         bcs = super()._bcs(V, facets)
         if self.params.plate == "sticking":
             bcs.append(component(V, 0, np.concatenate([facets.find(BOTTOM), facets.find(SEALED_BOTTOM)])))
         if self.params.top == "bonded":
             bcs.append(component(V, 0, facets.find(TOP)))
-        if self.params.cell == "array":
+        if self.params.cell != "isolated":
             bcs.append(component(V, 0, facets.find(OUTER)))
         return bcs
 

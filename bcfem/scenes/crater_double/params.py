@@ -61,8 +61,9 @@ PLATES = ("frictionless", "sticking")
 BOTTOMS = ("held", "contact")
 #: the top face on the platen: free to slide, or bonded to a rigid backing
 TOPS = ("sliding", "bonded")
-#: the specimen's outer face: free (one crater) or on rollers (the cell of a confined array)
-CELLS = ("isolated", "array")
+#: the specimen's outer face: free (one crater), the mirror face of an array's cell (it moves with
+#: a free lateral strain), or on rollers (a laterally confined array)
+CELLS = ("isolated", "array", "array-confined")
 FLUID_NAMES = ("air", "liquid")
 SEALS = ("rest", "preload")
 CONTACTS = ("separable", "bonded")
@@ -72,7 +73,7 @@ CHAMBERS = ("split", "membrane")
 AUTO = -1.0
 #: the columns of ``branch.csv`` ("vapour": how many chambers hold a cavitated liquid)
 COLUMNS = ["stage", "eps", "chambers", "vapour", "p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "A_c1_over_A0",
-           "F_tilde", "sidewall_gap", "fluid_law_residual"]
+           "F_tilde", "sidewall_gap", "fluid_law_residual", "lateral_strain"]
 
 
 @dataclass(frozen=True)
@@ -136,8 +137,11 @@ class Params:
         "the top face on the platen: sliding (frictionless) or bonded (no slip: a specimen on a rigid "
         "backing)", "", TOPS))
     cell: str = field(default="isolated", metadata=describe(
-        "the specimen's outer face: isolated (free) or array (on rollers: the axisymmetric cell of a "
-        "laterally confined array of craters at spacing 2 x specimen-radius)", "", CELLS))
+        "the specimen's outer face: isolated (free); array (the axisymmetric cell of an array of "
+        "craters at spacing 2 x specimen-radius: the face, a mirror of the lattice, stays a cylinder "
+        "whose radius moves with a free lateral strain, zero mean lateral traction; with --plate "
+        "sticking or --top bonded the faces' radii are held, so the strain is 0, rollers); or "
+        "array-confined (the face on rollers: an array held laterally)", "", CELLS))
     crater_radius: float = field(default=CRATER_RADIUS, metadata=describe("r0 / H, > R0 / H", bound=Bound(0.05, 10)))
     protuberance_radius: float = field(default=PROTUBERANCE_RADIUS, metadata=describe(
         "R0 / H, in ((1 - s/H) / 2, r0/H): the ball reaches the roof and leaves a gap to the "

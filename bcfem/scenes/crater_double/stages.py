@@ -146,7 +146,8 @@ class DoubleCraterCycle:
         row = {"stage": stage, "eps": eps, "chambers": self.chambers, "vapour": sum(self.vapour),
                "p_c1_over_pa": p1, "p_c2_over_pa": p2,
                "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "A_c1_over_A0": A, "F_tilde": (1 - p1) * A,
-               "sidewall_gap": self.model.sidewall_gap(), "fluid_law_residual": None}
+               "sidewall_gap": self.model.sidewall_gap(), "fluid_law_residual": None,
+               "lateral_strain": self.model.lateral_strain()}
         if self.sealed:  # each fluid's law: p V = n (air) or V = n (liquid); vapour: p = p_v
             laws = [0.0 if vapour else (p if self.params.fluid == "air" else 1.0) * V / n - 1
                     for p, V, n, vapour in zip((p1, p2), (V1, V2), self.amounts, self.vapour)]
