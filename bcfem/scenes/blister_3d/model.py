@@ -14,10 +14,14 @@ from dolfinx import fem
 
 from bcfem.geometry.outline import EDGE, create_mesh
 from bcfem.kinematics.planar_membrane import PlanarMembrane
+from bcfem.log import progress
 from bcfem.mpi import cell_maximum, global_sum, real_value
+from bcfem.path.branch import Switch
 from bcfem.physics.context import Context
-from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension
-from bcfem.scenes.blister_3d.params import COLUMNS, V0, Params
+from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension, WettedSubstrate
+from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
+from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, COLUMNS, V0, Params
+from bcfem.scenes.blister_3d.release import ReleaseRate
 from bcfem.scenes.blister_3d.report import MembraneScene
 from bcfem.scenes.blister_3d.start import FopplStart
 
@@ -37,6 +41,9 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     if params.alpha > 0:
         terms.append(SurfaceTension(params.alpha))
     terms.append(PressureVolume())
+    adhesive = params.edge == "adhesive"
+    if adhesive:  # the liquid's share of the substrate, pi r^2 for the circle: its cost w per area
+        terms.append(WettedSubstrate(params.adhesion_cost))
     terms.extend(extra_terms)
 
     guess = FopplStart(V, edge_facets)
@@ -64,13 +71,53 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
              for f, e in ((measures, ufl.as_vector([*kin.principal_stretches(), N2])),
                           (direction, kin.tension_direction()))]
 
+    cost = params.adhesion_cost + params.alpha
+    release = None
+    if adhesive:  # Pi with the pressure's work -p V (under volume control the target is no energy)
+        work = kin.integral(-pressure * kin.volume_density)
+        release = ReleaseRate(ctx, sum(t.energy(ctx) for t in terms if not isinstance(t, PressureVolume)) + work,
+                              edge_facets, cost)
+
     def observe() -> dict:
         for f, expression in drawn:
             f.interpolate(expression)
         apex = msh.comm.allreduce(float(u.x.array[heights].max(initial=-np.inf)), op=MPI.MAX)
         return {"V_over_V0": global_sum(volume) / V0, "P": real_value(pressure), "aspect": apex,
                 "energy": global_sum(energy) / math.pi, "stretch_max": stretch(), "I1_minus_3_max": I1(),
-                "N2_min": -compression(), "wrinkled_fraction": global_sum(wrinkled)}
+                "N2_min": -compression(), "wrinkled_fraction": global_sum(wrinkled),
+                **({**release(), "R_front": math.sqrt(global_sum(area) / math.pi)} if release else {})}
+
+    def end(values) -> float:
+        # the adhesive edge's branch ends at the onset (the front then moves: grow), or, if it is
+        # not to move, where all of the outline is over-critical
+        last = "G_max" if params.front_steps else "G_min"
+        return max(values["V_over_V0"] - params.v_max, values[last] - cost if release else -math.inf)
+
+    # where the release rate first reaches the cost somewhere (the onset) and on average (a front
+    # that moves uniformly: the circle's axisymmetric onset); they change nothing
+    switches = [Switch(name, lambda values, key=key: values[key] - cost, lambda: None)
+                for name, key in (("delamination onset", "G_max"), ("uniform onset", "G_mean"))] if release else []
+    area = fem.form(kin.integral(1.0))
+
+    def grow(run) -> None:
+        """After the onset, move the front to equilibrium at front_steps volumes up to v-max."""
+        onset = run.results.get("delamination_onset")
+        if not onset or not run.rows:
+            return
+        motion = MeshMotion(release, edge_facets)
+        start, s0 = onset["V_over_V0"], run.rows[-1]["s"]
+        with run.stage("front", ctx, terms, bcs) as problem:
+            growth = FrontGrowth(ctx, problem, release, motion, params.size)
+            for k in range(1, params.front_steps + 1):
+                target = start + (params.v_max - start) * k / params.front_steps
+                growth.settle(target * V0)
+                row = {**observe(), "s": s0 + target - start}
+                run.record(row)
+                progress(f"front {k:3d}  moves={growth.moves}  " + "  ".join(
+                    f"{key}={row[key]:.6g}" for key in ("V_over_V0", "P", "R_front", "front_R_min", "front_R_max")))
+        run.results["front"] = {"moves": growth.moves, "stiffness": growth.stiffness,
+                                **{key: run.rows[-1][key] for key in ("V_over_V0", "P", "R_front", "front_R_min",
+                                                                      "front_R_max")}}
 
     def guard(values):
         if values["V_over_V0"] <= 0:
@@ -82,9 +129,22 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
         return None
 
     return MembraneScene(name="blister-3d", ctx=ctx, terms=terms, bcs=bcs, load="pressure", start=start,
-                 observe=observe, end=lambda values: values["V_over_V0"] - params.v_max, grows="V_over_V0",
-                 progress_keys=("V_over_V0", "P", "aspect"), fields=[u, measures, direction],
+                 observe=observe, end=end, grows="V_over_V0",
+                 progress_keys=("V_over_V0", "P", "aspect", *(("G_max", "G_min") if release else ())),
+                 fields=[u, measures, direction], release=release, switches=switches,
+                 after=grow if release and params.front_steps else None,
+                 summarize=(lambda branch: onset(branch, cost)) if release else None,
                  continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
-                 load_scale=max(1.0, 2 * params.alpha), guard=guard, params=params, columns=COLUMNS)
+                 load_scale=max(1.0, 2 * params.alpha), guard=guard, params=params,
+                 columns=ADHESIVE_COLUMNS if adhesive else COLUMNS)
 
+
+def onset(branch, cost: float) -> dict:
+    """``delamination_onset`` (where the release rate first reaches the cost on the outline, and
+    where) and ``uniform_onset`` (where its mean does), or None each."""
+    events = {event["name"]: event for event in branch.events}
+    keys = {"delamination onset": ("V_over_V0", "P", "aspect", "G_mean", "G_min", "front_x", "front_y"),
+            "uniform onset": ("V_over_V0", "P", "aspect", "G_max", "G_min")}
+    return {name.replace(" ", "_"): {key: events[name][key] for key in keys[name]} if name in events else None
+            for name in keys}

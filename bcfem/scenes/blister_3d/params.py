@@ -44,7 +44,9 @@ state rendered, coloured by the major stretch), DIR/fields.bp (VTX: the
 displacement on the reference outline; warp by it in ParaView)."""
 COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "N2_min",
            "wrinkled_fraction", "s"]
-EDGES = ("clamped",)
+ADHESIVE_COLUMNS = [*COLUMNS[:-1], "G_max", "G_mean", "G_min", "front_x", "front_y", "R_front", "front_R_min",
+                    "front_R_max", "s"]
+EDGES = ("clamped", "adhesive")
 WRINKLES = ("taut", "relaxed")
 
 
@@ -65,7 +67,17 @@ class Params:
         "Gent locking limit of I1 - 3 (Gent only)", bound=Bound(1e-2, 1e6)))
     alpha: float = field(default=0.0, metadata=describe(
         "elasto-capillary number gamma_l / (mu_f t0)", bound=Bound(0, 1e4)))
-    edge: str = field(default="clamped", metadata=describe("edge condition", "", EDGES))
+    edge: str = field(default="clamped", metadata=describe(
+        "edge condition: clamped on the outline, or adhesive (the outline is held until the energy "
+        "release rate somewhere on it reaches the cost of debonding: the onset)", "", EDGES))
+    gamma_ls: float = field(default=3.0, metadata=describe(
+        "adhesive edge: gamma_ls / (mu_f t0), the liquid-substrate interface energy", bound=Bound(0, 1e4)))
+    delta_gamma: float = field(default=0.5, metadata=describe(
+        "adhesive edge: dgamma / (mu_f t0), the film-substrate adhesion (debonding a unit area costs "
+        "alpha + gamma_ls - dgamma > 0)", bound=Bound(0, 1e4)))
+    front_steps: int = field(default=8, metadata=describe(
+        "adhesive edge: volumes from the onset to --v-max at which the front is moved to equilibrium "
+        "(0: stop at the onset)", bound=Bound(0, 200, integer=True)))
     wrinkles: str = field(default="taut", metadata=describe(
         "taut: the membrane carries compression; relaxed: it wrinkles instead (tension-field "
         "theory; needs --alpha 0)", "", WRINKLES))
@@ -93,12 +105,21 @@ class Params:
                 "--vertices FILE is needed for --outline polygon, and only for it")
         require(self.aspect == 1.0 or self.outline in ("ellipse", "rectangle"),
                 f"--aspect applies to an ellipse or a rectangle (got --outline {self.outline})")
+        if self.edge == "adhesive":
+            require(self.alpha + self.gamma_ls - self.delta_gamma > 0,
+                    f"--delta-gamma: debonding must cost energy, alpha + gamma_ls - dgamma > 0 (got "
+                    f"{self.alpha:g} + {self.gamma_ls:g} - {self.delta_gamma:g})")
         check_meshable(self.geometry().estimated_cells(), "--size")
 
     def geometry(self) -> Outline:
         """The reference outline (reads and checks the polygon's file)."""
         vertices = tuple(map(tuple, read_vertices(self.vertices))) if self.vertices else ()
         return Outline(self.outline, self.aspect, vertices, self.size)
+
+    @property
+    def adhesion_cost(self) -> float:
+        """w = (gamma_ls - dgamma) / (mu_f t0), per debonded projected area."""
+        return self.gamma_ls - self.delta_gamma
 
     def material_model(self):
         if self.material == "gent":

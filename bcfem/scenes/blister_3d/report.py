@@ -7,6 +7,8 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
+import numpy as np
+
 from bcfem.run.scene import Scene
 
 
@@ -53,15 +55,44 @@ def membrane_figure(parts, title: str, colour: str = "major stretch"):
     return fig
 
 
+def release_figure(points, G, cost: float, title: str):
+    """The release rate along the outline over the cost of debonding, against the polar angle,
+    with the outline drawn in the plane (rank 0)."""
+    import matplotlib.pyplot as plt
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    angle = np.degrees(np.arctan2(points[:, 1], points[:, 0]))
+    left.plot(angle, G / cost, ".-", ms=3)
+    left.axhline(1.0, color="k", lw=0.8, ls="--")
+    left.set(xlabel="polar angle of the outline's node [deg]", ylabel="G / (w + α)", title=title)
+    picture = right.scatter(points[:, 0], points[:, 1], c=G / cost, s=8, cmap="viridis")
+    top = int(np.argmax(G))
+    right.plot(points[top, 0], points[top, 1], "r*", ms=12, label="largest G")
+    right.set(aspect="equal", xlabel="X / R0", ylabel="Y / R0")
+    right.legend(loc="lower right", fontsize=8)
+    fig.colorbar(picture, ax=right, label="G / (w + α)")
+    fig.tight_layout()
+    return fig
+
+
 @dataclass
 class MembraneScene(Scene):
-    """An arc-length scene that also draws its last state (``membrane.png``)."""
+    """An arc-length scene that also draws its last state (``membrane.png``) and, with an
+    adhesive edge, the release rate along the outline there (``release.png``)."""
+
+    release: object = None  # a bcfem.scenes.blister_3d.release.ReleaseRate, or None
+    after: object = None  # callable(run): a stage after the branch (the front's growth), or None
+
+    stages = ("branch", "front")
 
     def solve(self, run) -> None:
         try:
             super().solve(run)
+            if self.after:
+                self.after(run)
         finally:  # the converged part is drawn too
             self._surface = gather_surface(self.fields[0], self.fields[1], self.ctx.mesh.comm)
+            self._outline = self.release.gather() if self.release else None
 
     def figures(self, rows, summary) -> dict:
         figures = super().figures(rows, summary)
@@ -69,4 +100,8 @@ class MembraneScene(Scene):
             last = rows[-1]
             figures["membrane.png"] = membrane_figure(
                 self._surface, f"{self.name}: V/V0 = {last['V_over_V0']:.3g}, P = {last['P']:.4g}")
+        if getattr(self, "_outline", None):
+            last = rows[-1]
+            figures["release.png"] = release_figure(
+                *self._outline, self.release.cost, f"V/V0 = {last['V_over_V0']:.4g}, P = {last['P']:.4g}")
         return figures
