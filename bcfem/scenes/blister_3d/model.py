@@ -98,6 +98,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     switches = [Switch(name, lambda values, key=key: values[key] - cost, lambda: None)
                 for name, key in (("delamination onset", "G_max"), ("uniform onset", "G_mean"))] if release else []
     area = fem.form(kin.integral(1.0))
+    fronts = []
 
     def grow(run) -> None:
         """After the onset, move the front to equilibrium at front_steps volumes up to v-max."""
@@ -106,6 +107,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
             return
         motion = MeshMotion(release, edge_facets)
         start, s0 = onset["V_over_V0"], run.rows[-1]["s"]
+        fronts.append((start, release.gather()[0]))
         with run.stage("front", ctx, terms, bcs) as problem:
             growth = FrontGrowth(ctx, problem, release, motion, params.size)
             for k in range(1, params.front_steps + 1):
@@ -113,6 +115,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
                 growth.settle(target * V0)
                 row = {**observe(), "s": s0 + target - start}
                 run.record(row)
+                fronts.append((target, release.gather()[0]))
                 progress(f"front {k:3d}  moves={growth.moves}  " + "  ".join(
                     f"{key}={row[key]:.6g}" for key in ("V_over_V0", "P", "R_front", "front_R_min", "front_R_max")))
         run.results["front"] = {"moves": growth.moves, "stiffness": growth.stiffness,
@@ -132,7 +135,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
                  observe=observe, end=end, grows="V_over_V0",
                  progress_keys=("V_over_V0", "P", "aspect", *(("G_max", "G_min") if release else ())),
                  fields=[u, measures, direction], release=release, switches=switches,
-                 after=grow if release and params.front_steps else None,
+                 after=grow if release and params.front_steps else None, fronts=fronts,
                  summarize=(lambda branch: onset(branch, cost)) if release else None,
                  continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
@@ -142,8 +145,13 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
 
 def onset(branch, cost: float) -> dict:
     """``delamination_onset`` (where the release rate first reaches the cost on the outline, and
-    where) and ``uniform_onset`` (where its mean does), or None each."""
+    where) and ``uniform_onset`` (where its mean does), or None each. An onset that ends the
+    branch is its last row (the end wins over an event in the same step)."""
     events = {event["name"]: event for event in branch.events}
+    last = branch.rows[-1]
+    for name, key in (("delamination onset", "G_max"), ("uniform onset", "G_mean")):
+        if name not in events and abs(last[key] - cost) <= 1e-6 * cost:
+            events[name] = last
     keys = {"delamination onset": ("V_over_V0", "P", "aspect", "G_mean", "G_min", "front_x", "front_y"),
             "uniform onset": ("V_over_V0", "P", "aspect", "G_max", "G_min")}
     return {name.replace(" ", "_"): {key: events[name][key] for key in keys[name]} if name in events else None

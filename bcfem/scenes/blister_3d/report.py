@@ -5,7 +5,7 @@ framed in a matplotlib figure like every other PNG of a run."""
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -75,13 +75,30 @@ def release_figure(points, G, cost: float, title: str):
     return fig
 
 
+def fronts_figure(fronts, title: str):
+    """The debond front's outline at each volume of its growth, in the reference plane (rank 0)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5.5, 5))
+    colours = plt.cm.viridis(np.linspace(0, 1, len(fronts)))
+    for (volume, points), colour in zip(fronts, colours, strict=True):
+        closed = np.vstack([points, points[:1]])
+        ax.plot(closed[:, 0], closed[:, 1], color=colour, lw=1.2, label=f"V/V0 = {volume:.3g}")
+    ax.set(aspect="equal", xlabel="X / R0", ylabel="Y / R0", title=title)
+    ax.legend(fontsize=7, loc="center")
+    fig.tight_layout()
+    return fig
+
+
 @dataclass
 class MembraneScene(Scene):
     """An arc-length scene that also draws its last state (``membrane.png``) and, with an
-    adhesive edge, the release rate along the outline there (``release.png``)."""
+    adhesive edge, the release rate along the outline there (``release.png``) and the front at
+    each step of its growth (``front.png``)."""
 
     release: object = None  # a bcfem.scenes.blister_3d.release.ReleaseRate, or None
     after: object = None  # callable(run): a stage after the branch (the front's growth), or None
+    fronts: list = field(default_factory=list)  # (V/V0, the outline's points) at the onset and each growth step
 
     stages = ("branch", "front")
 
@@ -104,4 +121,6 @@ class MembraneScene(Scene):
             last = rows[-1]
             figures["release.png"] = release_figure(
                 *self._outline, self.release.cost, f"V/V0 = {last['V_over_V0']:.4g}, P = {last['P']:.4g}")
+        if len(self.fronts) > 1:
+            figures["front.png"] = fronts_figure(self.fronts, f"{self.name}: the debond front as it grows")
         return figures
