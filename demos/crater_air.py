@@ -222,7 +222,7 @@ comm.barrier()
 
 # %%
 COLUMNS = ["preload", "status", "F_tilde", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
-           "eps_at_zero_force", "zero_force_reached", "eps_closure", "fluid_law_residual", "events",
+           "eps_at_zero_force", "eps_closure", "fluid_law_residual", "events",
            "wall_time_s", "reason"]
 
 
@@ -231,7 +231,6 @@ def plain(row):
     out = {k: (float(v) if isinstance(v, float) else v) for k, v in row.items() if k in COLUMNS}
     if row["status"] == "ok":
         out["events"] = describe(row["events"])
-        out["zero_force_reached"] = True
     return out
 
 
