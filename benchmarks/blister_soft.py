@@ -54,15 +54,15 @@ def worker(case: dict) -> dict:
         branch = branch_of(blister_rigid.build(params, MPI.COMM_WORLD))
         dofs = 2 * (params.degree * params.cells + 1) + 1
     else:
+        from bcfem.run.runner import branch_of
         from bcfem.scenes import blister_soft
-        from bcfem.scenes.blister_soft.path import trace
 
         params = blister_soft.Params(stiffness_ratio=case["ratio"], v_max=case["v_max"], refine=case["refine"],
                                      size_factor=case.get("L", 10.0),
                                      size_contact=case.get("size_contact", blister_soft.Params.size_contact))
         scene = blister_soft.build(params, MPI.COMM_WORLD)
         frames = []
-        branch = trace(scene, on_accept=frame_recorder(scene, frames) if case.get("frames") else None)
+        branch = branch_of(scene, on_accept=frame_recorder(scene, frames) if case.get("frames") else None)
         dofs = sum(s.function_space.dofmap.index_map.size_global * s.function_space.dofmap.index_map_bs
                    for s in scene.ctx.states.values())
     lps = [{"kind": lp.kind, **{k: v for k, v in lp.values.items() if isinstance(v, float)}}

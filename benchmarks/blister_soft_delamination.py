@@ -66,10 +66,10 @@ def soft(edge: str, **extra):
 def traced(scene) -> tuple:
     """The branch and a note: None, or why it ends before V_MAX (its converged part is kept)."""
     from bcfem.path.continuation import ContinuationError
-    from bcfem.scenes.blister_soft.path import trace
+    from bcfem.run.runner import branch_of
 
     try:
-        return trace(scene), None
+        return branch_of(scene), None
     except ContinuationError as err:
         return err.branch, str(err)
 
@@ -78,7 +78,6 @@ def main() -> None:
     from bcfem.run.runner import branch_of
     from bcfem.scenes import blister_rigid
     from bcfem.scenes.blister_soft.onset import critical_point, onset_by_energy
-    from bcfem.scenes.blister_soft.path import trace
 
     t0 = time.perf_counter()
     bonded = soft("bonded", v_start=BONDED_START)
@@ -86,7 +85,7 @@ def main() -> None:
     rows = rows_of(branch, "soft bonded")
     starts = {"bonded": bonded.start_report}
     adhesive = soft("adhesive")
-    branch = trace(adhesive)
+    branch = branch_of(adhesive)
     starts["adhesive"] = adhesive.start_report
     rows += rows_of(branch, "soft adhesive")
     (event,) = branch.events

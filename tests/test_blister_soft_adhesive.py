@@ -145,9 +145,9 @@ def test_onset_tends_to_the_rigid_adhesive_edge(tmp_path):
 
 
 def onset_of(scene) -> dict:
-    from bcfem.scenes.blister_soft.path import trace
+    from bcfem.run.runner import branch_of
 
-    (event,) = trace(scene).events
+    (event,) = branch_of(scene).events
     return event
 
 
@@ -190,12 +190,12 @@ def test_rigid_limit_of_the_onset_for_any_interface_energies(gamma_ls, delta_gam
 def test_onset_by_configurational_force_equals_energy_comparison():
     """At stiffness ratio 100: the V/V0 where -dPi/dR1 turns positive (the scene's switch) and
     the zero of dF/dR1|_V by energies of models held at R1 = 1 +- delta agree to O(delta^2)."""
+    from bcfem.run.runner import branch_of
     from bcfem.scenes.blister_soft.model import build
     from bcfem.scenes.blister_soft.onset import onset_by_energy
-    from bcfem.scenes.blister_soft.path import trace
 
     scene = build(blister_soft.Params(edge="adhesive", stiffness_ratio=100.0, v_max=0.3), MPI.COMM_SELF)
-    (event,) = trace(scene).events
+    (event,) = branch_of(scene).events
     found = onset_by_energy(scene, (0.98 * event["V_over_V0"], 1.02 * event["V_over_V0"]))
     print("onset: switch", event["V_over_V0"], "energy", found)
     assert found["V_over_V0"] == pytest.approx(event["V_over_V0"], rel=1e-5)
@@ -206,14 +206,14 @@ def test_onset_by_configurational_force_equals_energy_comparison():
 def test_fixed_front_critical_point_lies_on_the_propagating_branch():
     """Fig. 4.8's method: a model held at R1 = 1.2 R0 traced until its release rate reaches
     zero is the propagating branch's state at R1 = 1.2 (stiffness ratio 2, Fig. 4.5's tensions)."""
+    from bcfem.run.runner import branch_of
     from bcfem.scenes.blister_soft.model import build
     from bcfem.scenes.blister_soft.onset import critical_point
-    from bcfem.scenes.blister_soft.path import trace
 
     params = blister_soft.Params(edge="adhesive", stiffness_ratio=2.0, v_max=1.0)
     scene = build(params, MPI.COMM_SELF)
     scene.end = lambda values: values["R1_over_R0"] - 1.2
-    propagating = trace(scene).rows[-1]
+    propagating = branch_of(scene).rows[-1]
     held = critical_point(scene, 1.2)
     assert propagating["R1_over_R0"] == pytest.approx(1.2, abs=1e-6)
     for key in ("V_over_V0", "P", "r1_over_R0", "indentation"):

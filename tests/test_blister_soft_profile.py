@@ -158,12 +158,12 @@ R_S, WIDTH = 1.1, 0.1
 
 
 def trace_to_front(delta_gamma, radius, **changes):
+    from bcfem.run.runner import branch_of
     from bcfem.scenes.blister_soft.model import build
-    from bcfem.scenes.blister_soft.path import trace
 
     scene = build(blister_soft.Params(**{**STEP, **changes}, delta_gamma=delta_gamma), MPI.COMM_SELF)
     scene.end = lambda values: values["R1_over_R0"] - radius
-    return trace(scene).rows
+    return branch_of(scene).rows
 
 
 @pytest.mark.slow

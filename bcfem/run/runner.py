@@ -297,30 +297,25 @@ def trace(scene, on_accept=None, run: Run | None = None, arc: ArcLength | None =
           problem: Problem | None = None) -> tuple[Branch, Problem]:
     """Build the arc-length problem of ``scene``, start it and follow the branch.
 
-    If the scene has a ``begin`` condition, the branch is first traced backwards
-    from the start to where ``begin`` turns positive (without switches, and
-    without field output), then forwards; the rows are joined in path order,
-    with negative arc lengths before the start. With a ``run`` the problem is the
+    The scene's hooks say how: ``arc_length()`` measures the steps, ``energy_scale`` is the
+    residual's unit, ``first_point`` converges the start, and ``trace_back`` may first trace
+    the branch backwards from there (without switches, and without field output); the rows
+    are then joined in path order, with negative arc lengths before the start. With a ``run`` the problem is the
     run's (stage ``branch``); a :class:`ContinuationError` then carries the converged
     part as ``err.branch`` and the problem as ``err.problem``. A given ``arc`` and ``problem``
     (built for this scene's model, e.g. kept by :class:`bcfem.run.session.Session`) are reused.
     """
-    arc = arc or ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
+    arc = arc or scene.arc_length()
     if problem is None:
         arguments = (scene.ctx, scene.terms, scene.bcs)
         options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
-                       energy_scale=scene.load_scale)
+                       energy_scale=scene.energy_scale)
         problem = run.problem("branch", *arguments, **options) if run else Problem(*arguments, scene.prefix, **options)
     back = None
     try:
-        start(arc, problem, scene)
+        scene.first_point(arc, problem)
         forward = arc.forward_sign(problem, scene.observe, scene.grows) if scene.grows else 1
-        if scene.begin is not None:
-            origin = problem.save()
-            back = arc.trace(problem, scene.observe, scene.begin, scene.progress_keys,
-                             guard=scene.guard, direction=-forward)
-            problem.restore(origin)
-            arc.restart_row(problem)
+        back, forward = scene.trace_back(arc, problem, forward)
         branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
                            guard=scene.guard, switches=scene.switches, direction=forward)
     except ContinuationError as err:
@@ -348,14 +343,15 @@ def _join(back: Branch, forward: Branch) -> Branch:
                   wall_time_s=back.wall_time_s + forward.wall_time_s)
 
 
-def branch_of(scene) -> Branch:
-    """Trace ``scene`` and destroy its PETSc objects at once, also when the trace fails.
+def branch_of(scene, on_accept=None) -> Branch:
+    """Trace ``scene`` and destroy its PETSc objects at once, also when the trace fails
+    (``on_accept(row)`` at every accepted point).
 
     For scripts that need only the branch; left to the garbage collector, the
     objects can deadlock at exit under MPI.
     """
     try:
-        branch, problem = trace(scene)
+        branch, problem = trace(scene, on_accept)
     except ContinuationError as error:
         if getattr(error, "problem", None) is not None:
             error.problem.close()

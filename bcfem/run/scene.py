@@ -78,6 +78,36 @@ class Scene:
     def prefix(self) -> str:
         return f"bcfem_{self.name}_branch_".replace("-", "_")
 
+    # -- the hooks of the runner's trace (:func:`bcfem.run.runner.trace`) --------------------
+    def arc_length(self):
+        """The arc-length continuation of the branch (a scene may measure it otherwise)."""
+        from bcfem.path.continuation import ArcLength
+
+        return ArcLength(self.ctx, self.load, self.continuation, self.load_scale)
+
+    @property
+    def energy_scale(self) -> float:
+        """The residual's unit: the load's."""
+        return self.load_scale
+
+    def first_point(self, arc, problem) -> None:
+        """Converge the first point (a scene may reach it another way, e.g. by a homotopy)."""
+        from bcfem.run.runner import start
+
+        start(arc, problem, self)
+
+    def trace_back(self, arc, problem, forward: int):
+        """(the branch traced backwards from the start to where ``begin`` turns positive, or
+        None; the forward direction). The states are restored to the start."""
+        if self.begin is None:
+            return None, forward
+        origin = problem.save()
+        back = arc.trace(problem, self.observe, self.begin, self.progress_keys, guard=self.guard,
+                         direction=-forward)
+        problem.restore(origin)
+        arc.restart_row(problem)
+        return back, forward
+
     def solve(self, run) -> None:
         """Trace the branch into ``run``: its rows, limit points, events and counts."""
         from bcfem.path.continuation import ContinuationError

@@ -326,7 +326,7 @@ def build(params: Params, comm, data=None) -> Scene:
 def summarize(branch, start_report=None) -> dict:
     """``indentation_max``: the deepest indentation along the branch (a parabola through the
     three rows around the deepest one), and where it is; ``branch_start``: None, or where the
-    branch begins when no regular state reaches down to ``v_start`` (:func:`.path.trace`)."""
+    branch begins when no regular state reaches down to ``v_start`` (:meth:`.path.SoftScene.trace_back`)."""
     depth = branch.column("indentation")
     volume = branch.column("V_over_V0")
     k = int(np.argmax(depth))

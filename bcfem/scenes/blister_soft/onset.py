@@ -18,8 +18,8 @@ from __future__ import annotations
 import math
 
 from bcfem.path.roots import bracketed_root
+from bcfem.run.runner import branch_of
 from bcfem.scenes.blister_soft.model import V0
-from bcfem.scenes.blister_soft.path import trace
 
 
 def hold(scene, radius: float, end=None) -> None:
@@ -44,7 +44,7 @@ def free_energy(row: dict) -> float:
 def energy_at_volume(scene, radius: float, volume: float) -> float:
     """F at V/V0 = ``volume`` of the model with the front held at ``radius`` (collective)."""
     hold(scene, radius, end=lambda values: values["V_over_V0"] - volume)
-    row = trace(scene).rows[-1]
+    row = branch_of(scene).rows[-1]
     if abs(row["V_over_V0"] - volume) > 1e-8 * volume:
         raise RuntimeError(f"the held trace ended at V/V0 = {row['V_over_V0']}, not {volume}")
     return free_energy(row)
@@ -71,4 +71,4 @@ def critical_point(scene, radius: float) -> dict:
     """The row of the model held at R1 = ``radius`` where its release rate -dPi/dR1 reaches
     zero from below (the dissertation's fixed-R1 models)."""
     hold(scene, radius, end=lambda values: -values["dPi_dR1"])
-    return trace(scene).rows[-1]
+    return branch_of(scene).rows[-1]

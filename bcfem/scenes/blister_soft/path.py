@@ -18,7 +18,7 @@ from __future__ import annotations
 from bcfem.log import logger
 from bcfem.path.continuation import ArcLength, ContinuationError
 from bcfem.radial_profile import scale_of
-from bcfem.run.runner import _join, start
+from bcfem.run.runner import start
 from bcfem.run.scene import Scene
 
 #: the modulus of the first point: stiff enough for Newton from a cap on a flat substrate
@@ -32,29 +32,62 @@ STEP_ITERATIONS = 8
 
 class SoftScene(Scene):
     """An arc-length scene whose arc length is measured on the wetted surface by the
-    substrate's displacement and the membrane's lift together (``norm``, ``mean``), and whose
-    start is softened from a stiff substrate (:func:`homotopy`)."""
+    substrate's displacement and the membrane's lift together (``norm``, ``mean``), whose
+    start is softened from a stiff substrate (:func:`homotopy`), and whose branch is traced
+    back to ``v_start`` where it can be: hooks of :func:`bcfem.run.runner.trace`."""
 
     norm: dict | None = None
     mean: object = None
     model: object = None
-    #: set by :func:`trace`: None, or where the branch begins when it cannot reach ``v_start``
+    #: set by the trace: None, or where the branch begins when it cannot reach ``v_start``
     start_report: dict | None = None
 
-    def solve(self, run) -> None:
-        run.watch(self.fields)
+    def arc_length(self) -> ArcLength:
+        return ArcLength(self.ctx, self.load, self.continuation, self.load_scale, norm=self.norm, mean=self.mean)
+
+    @property
+    def energy_scale(self) -> float:
+        """The load's unit, or a stiff substrate's modulus over 1000. Round-off in the
+        substrate's residual grows with its modulus k (about 1e-13 k) and stalled Newton above
+        its absolute tolerance on the adhesive edge at k = 1e4 (the scene's ``snes_atol`` sits
+        above it). A larger unit (k/100) let the step control grow steps until the bonded
+        branch jumped at k = 1e4."""
+        return max(self.load_scale, self.params.stiffness_ratio / 1000)
+
+    def first_point(self, arc, problem) -> None:
+        """A cap on a stiff substrate softened to the parameters (:func:`begin`); then steps of
+        at most ``STEP_ITERATIONS`` Newton iterations."""
+        self.start_report = None
+        self.start_volume = begin(self, arc, problem, start_path(self.ctx, self.params))
+        arc.restart_row(problem)
+        problem.snes.setTolerances(max_it=STEP_ITERATIONS)
+
+    def trace_back(self, arc, problem, forward: int):
+        """Back to ``v_start`` when the start lies beyond it. Where no regular state lies between
+        (the start itself failed there), the branch begins where the trace back ended, and
+        ``start_report`` says why; where the end lies behind the start, the branch runs forward
+        from ``v_start``."""
+        params = self.params
+        here = self.observe()
+        if here["V_over_V0"] <= params.v_start * (1 + 1e-9):
+            return None, forward
+        origin = problem.save()
         try:
-            branch = trace(self, run.on_accept, run)
+            back = arc.trace(problem, self.observe, lambda v: params.v_start - v["V_over_V0"],
+                             self.progress_keys, guard=self.guard, direction=-forward)
         except ContinuationError as err:
-            self._report(run, getattr(err, "branch", None) or _empty())
-            raise
-        self._report(run, branch)
-
-
-def _empty():
-    from bcfem.path.branch import Branch
-
-    return Branch()
+            back = err.branch if err.branch.rows else None
+            first = back.rows[-1]["V_over_V0"] if back else here["V_over_V0"]
+            self.start_report = {"v_start": params.v_start, "start_volume": self.start_volume,
+                                 "V_over_V0": first, "reason": str(err)}
+            logger.warning(f"blister-soft: the branch begins at V/V0 = {first:.4g}, not at --v-start "
+                           f"{params.v_start:g}: the start failed there and tracing back stopped ({err})")
+        arc.restart_row(problem)
+        if self.end(here) >= 0:  # the end lies behind the start: the whole branch from v_start
+            return None, arc.forward_sign(problem, self.observe, self.grows)
+        problem.restore(origin)
+        arc.restart_row(problem)
+        return back, forward
 
 
 def homotopy(problem, path, dt: float = 0.125, dt_min: float = 1e-3) -> int:
@@ -134,64 +167,3 @@ class _Start:
 
     def start(self, fraction: float) -> float:
         return self.model.cap_guess(fraction * self.volume)
-
-
-def energy_scale(scene) -> float:
-    """The residual's unit: the load's, or a stiff substrate's modulus over 1000. Round-off
-    in the substrate's residual grows with its modulus k (about 1e-13 k) and stalled Newton
-    above its absolute tolerance on the adhesive edge at k = 1e4 (the scene's ``snes_atol``
-    sits above it). A larger unit (k/100) let the step control grow steps until the bonded
-    branch jumped at k = 1e4."""
-    return max(scene.load_scale, scene.params.stiffness_ratio / 1000)
-
-
-def trace(scene: SoftScene, on_accept=None, run=None):
-    """Start stiff, soften, trace back to ``v_start`` if needed, then forward; returns the branch
-    (the problem is the run's, or closed here)."""
-    params = scene.params
-    arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale, norm=scene.norm, mean=scene.mean)
-    arguments = (scene.ctx, scene.terms, scene.bcs)
-    options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
-                   energy_scale=energy_scale(scene))
-    if run is not None:
-        problem = run.problem("branch", *arguments, **options)
-    else:
-        from bcfem.solver.problem import Problem
-        problem = Problem(*arguments, scene.prefix, **options)
-    path = start_path(scene.ctx, params)
-    scene.start_report = None
-    try:
-        volume = begin(scene, arc, problem, path)
-        arc.restart_row(problem)
-        problem.snes.setTolerances(max_it=STEP_ITERATIONS)
-        forward = arc.forward_sign(problem, scene.observe, scene.grows)
-        back = None
-        here = scene.observe()
-        if here["V_over_V0"] > params.v_start * (1 + 1e-9):
-            origin = problem.save()
-            try:
-                back = arc.trace(problem, scene.observe, lambda v: params.v_start - v["V_over_V0"],
-                                 scene.progress_keys, guard=scene.guard, direction=-forward)
-            except ContinuationError as err:
-                # no regular state between v_start and here (the start itself failed there):
-                # the branch begins where the trace back ended, and the summary says why
-                back = err.branch if err.branch.rows else None
-                first = back.rows[-1]["V_over_V0"] if back else here["V_over_V0"]
-                scene.start_report = {"v_start": params.v_start, "start_volume": volume,
-                                      "V_over_V0": first, "reason": str(err)}
-                logger.warning(f"blister-soft: the branch begins at V/V0 = {first:.4g}, not at --v-start "
-                               f"{params.v_start:g}: the start failed there and tracing back stopped ({err})")
-            arc.restart_row(problem)
-            if scene.end(here) >= 0:  # the end lies behind the start: the whole branch from v_start
-                back, forward = None, arc.forward_sign(problem, scene.observe, scene.grows)
-            else:
-                problem.restore(origin)
-                arc.restart_row(problem)
-        branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
-                           guard=scene.guard, switches=scene.switches, direction=forward)
-        if back is not None:
-            branch = _join(back, branch)
-    finally:
-        if run is None:
-            problem.close()
-    return branch

@@ -29,6 +29,7 @@ from bcfem.physics.fluids import FLUIDS, Vacuum
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import CLOSURE_CRITERIA, COLUMNS, MAX_CLOSURE_PRELOAD, PRELOAD_TO_CLOSURE, Params
 from bcfem.scenes.crater.report import finish, plot
+from bcfem.scenes.crater.seal import seal
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 
 #: the load parameter: the platen's displacement (mm; compression < 0)
@@ -85,17 +86,15 @@ class FundamentalCycle:
             load_end = run.rows[-1]
         V1, preload = load_end["V"], load_end["eps"]
         closes = closure(load_end) >= -1e-8  # the end is located to event_tol: within round-off of 0
-        closed = V1 <= CLOSURE_CRITERIA.closed * model.geometry.crater_volume or closes
-        if closed and params.fluid == "liquid":
-            final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
+        sealing = seal(model, V1, closes, cavitates=False)
+        closed, V1_sealed = sealing.closed, sealing.sealed_volume
+        if sealing.stays_closed:
+            final = sealing.final_closed(model, preload)
             final.update(s=load_end["s"], platen_force=load_end["platen_force"], unstable=load_end["unstable"])
             finish(run, model, final, V1, closed, preload, preload, events, load_end["unstable"])
             return
-        if not closed:
-            model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
         fluid = Vacuum(model.cavity) if closed else FLUIDS[params.fluid](model.cavity, V1)
         terms = [t for t in model.terms(fluid) if t is not model.viscosity]
-        V1_sealed = 0.0 if closed else V1
         with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading:
             model.contact_bounds(unloading)
             if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen

@@ -43,6 +43,7 @@ from bcfem.scenes.crater.params import (
     Params,
 )
 from bcfem.scenes.crater.report import finish, plot
+from bcfem.scenes.crater.seal import seal
 
 #: full Newton steps can cycle between two contact active sets; backtracking breaks the
 #: cycle, and where it stalls, cp (a line search on the energy along Newton's direction) may
@@ -122,17 +123,13 @@ class CraterCycle:
                 preload, closes = params.preload, False
                 path.through(0.0, preload, params.strain_step, lambda e: run.record(model.observe("load", e)))
         V1 = run.rows[-1]["V"]
-        # full closure: nothing left inside (closure mode neglects a trapped remnant)
-        closed = V1 <= CLOSURE_CRITERIA.closed * model.geometry.crater_volume or closes
         cavitates = params.fluid == "liquid" and params.cavitation != -math.inf
-        if closed and params.fluid == "liquid" and not cavitates:
-            # an incompressible liquid crater that closed stays closed: V2 = V1 = 0, F = 0 (eq. 8.8)
-            final = {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
-            finish(run, model, final, V1, closed, preload, preload, events, path.unstable)
+        sealing = seal(model, V1, closes, cavitates)
+        closed, V1_sealed = sealing.closed, sealing.sealed_volume
+        if sealing.stays_closed:
+            finish(run, model, sealing.final_closed(model, preload), V1, closed, preload, preload, events,
+                   path.unstable)
             return
-        if not closed:
-            model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
-        V1_sealed = 0.0 if closed else V1
         # one problem per phase of the liquid: a cavitation or a collapse swaps its term
         vapour, start = False, preload
         if closed and cavitates:  # no liquid left to hold the wall down: vapour at p_v once it lifts
