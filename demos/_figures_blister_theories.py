@@ -2,31 +2,32 @@
 
 from bcfem import io
 
+LABELS = {"gent-Jm100": r"Gent $J_m=100$", "gent-Jm200": r"Gent $J_m=200$",
+          "neo-hookean": r"neo-Hookean ($J_m\to\infty$)"}
+V_ZOOM, P_ZOOM, Z_ZOOM = 0.15, 0.5, 0.3  # the small-deflection window of frames (b) and (d)
 
-def draw(
-        LABELS, MATERIALS, P_ZOOM, V_MAX, V_ZOOM, Z_ZOOM, args, branches, comm, p_theory, report,
-        theories, v_theory,
-) -> None:
-    """Draw and save the figures (rank 0)."""
+
+def draw(results) -> None:
+    """Draw and save Figure 3.2 (rank 0) from the demo's ``Results``."""
     from matplotlib.patches import Rectangle
 
     from bcfem.plots import pyplot
 
     plt = pyplot()
-    colors = dict(zip(MATERIALS, ["C3", "C0", "C2"]))
+    colors = dict(zip(results.branches, ["C3", "C0", "C2"]))
     fig, axes = plt.subplots(2, 2, figsize=(9.0, 7.2))
     (ax_a, ax_b), (ax_c, ax_d) = axes
     for ax_full, ax_zoom, x_key, x_label, x_full, x_zoom in (
-            (ax_a, ax_b, "V_over_V0", r"$V/V_0$", V_MAX, V_ZOOM),
+            (ax_a, ax_b, "V_over_V0", r"$V/V_0$", results.v_max, V_ZOOM),
             (ax_c, ax_d, "aspect", r"$z(0)/R_0$", 4.0, Z_ZOOM)):
         for ax in (ax_full, ax_zoom):
-            for name, model in theories.items():
+            for name, model in results.theories.items():
                 if x_key == "V_over_V0":
-                    x, y = v_theory, model["P_of_V"](v_theory)
+                    x, y = results.v_theory, model["P_of_V"](results.v_theory)
                 else:
-                    x, y = model["z_of_P"](p_theory), p_theory
+                    x, y = model["z_of_P"](results.p_theory), results.p_theory
                 ax.plot(x, y, model["style"], color="k", lw=1.2, label=name)
-            for label, branch in branches.items():
+            for label, branch in results.branches.items():
                 ax.plot(branch.column(x_key), branch.column("P"), "-", color=colors[label],
                         lw=1.6, label=f"nonlinear, {LABELS[label]}")
                 for lp in branch.limit_points:
@@ -48,6 +49,7 @@ def draw(
     fig.suptitle("Clamped blister: simple, moderate (Föppl) and nonlinear membrane theories",
                  fontsize=10)
     fig.tight_layout()
-    io.save_figure(fig, args.out / "theories.png", comm)
+    out = results.run.out
+    io.save_figure(fig, out / "theories.png", results.run.comm)
     plt.close(fig)
-    report(f"wrote {args.out / 'curves.csv'}, {args.out / 'summary.json'}, {args.out / 'theories.png'}")
+    results.run.report(f"wrote {out / 'curves.csv'}, {out / 'summary.json'}, {out / 'theories.png'}")

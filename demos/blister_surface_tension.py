@@ -40,7 +40,7 @@
 
 # %%
 import time
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 
 from mpi4py import MPI
 
@@ -191,10 +191,22 @@ io.write_json(args.out / "summary.json", {
 # the dissertation. Open circles mark the limit points of the pressure.
 
 # %%
+@dataclass(frozen=True)
+class Results:
+    """What the figure draws: the branches by (law, alpha), the values of alpha, Gent's J_m, the
+    end of the branches (V/V0) and the run."""
+
+    branches: dict
+    alphas: tuple
+    jm: float
+    v_max: float
+    run: demo.Run
+
+
 if comm.rank == 0:
     from _figures_blister_surface_tension import draw
 
-    draw(ALPHAS=ALPHAS, JM=JM, V_MAX=V_MAX, args=args, branches=branches, comm=comm, report=report)
+    draw(Results(branches, ALPHAS, JM, V_MAX, demo.Run(args, comm, report)))
 
 # %% [markdown]
 # ## Assert

@@ -47,7 +47,7 @@
 # %%
 import math
 import time
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 
 from mpi4py import MPI
 
@@ -70,14 +70,11 @@ MATERIALS = {  # name -> blister_rigid.Params material fields
     "gent-Jm200": dict(material="gent", Jm=200.0),
     "neo-hookean": dict(material="neo-hookean"),
 }
-LABELS = {"gent-Jm100": r"Gent $J_m=100$", "gent-Jm200": r"Gent $J_m=200$",
-          "neo-hookean": r"neo-Hookean ($J_m\to\infty$)"}
 V_MAX = 12.0  # end of the branches, V/V0 (the Jm = 200 minimum is near V/V0 = 9)
 V_START = 0.002  # first point, V/V0: deep in the Föppl regime
 CELLS = 80  # P2 cells across R0
 DEGREE = 2
 CONTINUATION = ContinuationParams(ds=0.01, ds_max=0.02)  # small first step resolves the zoom
-V_ZOOM, P_ZOOM, Z_ZOOM = 0.15, 0.5, 0.3  # the small-deflection window of frames (b) and (d)
 FOPPL_TOL = 1e-3  # |P/P_Foppl - 1| allowed at V_START (the correction is O(V^2), ~1e-4 there)
 JM_CHECK_V = 0.1  # V/V0 at which the Gent correction must be linear in 1/Jm
 JM_TOL = 1e-3  # relative tolerance of that check (next order: (I1-3)/Jm ~ 2e-4 there)
@@ -201,11 +198,23 @@ io.write_json(args.out / "summary.json", {
 # (b) and (d). Open circles mark the limit points.
 
 # %%
+@dataclass(frozen=True)
+class Results:
+    """What the figures draw: the nonlinear branches by material, the two closed-form theories
+    (``P_of_V``, ``z_of_P``, line style) on their grids in V/V0 and P, and the run."""
+
+    branches: dict
+    theories: dict
+    v_theory: np.ndarray
+    p_theory: np.ndarray
+    v_max: float
+    run: demo.Run
+
+
 if comm.rank == 0:
     from _figures_blister_theories import draw
 
-    draw(LABELS=LABELS, MATERIALS=MATERIALS, P_ZOOM=P_ZOOM, V_MAX=V_MAX, V_ZOOM=V_ZOOM, Z_ZOOM=Z_ZOOM, args=args,
-         branches=branches, comm=comm, p_theory=p_theory, report=report, theories=theories, v_theory=v_theory)
+    draw(Results(branches, theories, v_theory, p_theory, V_MAX, demo.Run(args, comm, report)))
 
 # %% [markdown]
 # ## Assert

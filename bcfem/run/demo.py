@@ -1,9 +1,13 @@
-"""What every demo script shares: its command line, logging and a rank-0 report."""
+"""What every demo script shares: its command line, logging, a rank-0 report and the run
+context its figures receive."""
 
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from bcfem.log import configure
 
@@ -39,3 +43,21 @@ def setup(name: str, description: str, comm, full: str = "the demo's grid is the
             print(message, flush=True)
 
     return args, report
+
+
+@dataclass(frozen=True)
+class Run:
+    """The context of one demo run that its figures need: the parsed arguments of :func:`setup`,
+    the communicator the results are written on and the rank-0 ``report``.
+
+    A demo's results object carries one ``Run``, so that its ``draw(results)`` takes one argument.
+    """
+
+    args: argparse.Namespace
+    comm: Any  # mpi4py.MPI.Comm (not imported here, so that --help stays fast)
+    report: Callable[[str], None]
+
+    @property
+    def out(self) -> Path:
+        """The output directory (``--out``)."""
+        return self.args.out
