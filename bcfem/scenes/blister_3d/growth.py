@@ -6,8 +6,8 @@ on the debonded region Ω: the path is a sequence of regions, each with its equi
 clamped (unstretched) on ∂Ω. At each volume the front is moved until the release rate
 (:class:`bcfem.scenes.blister_3d.release.ReleaseRate`) is at most the cost everywhere on it and
 equal to it where it moved: the outline's nodes where G exceeds the cost w + α advance along
-their normal by (G − w − α)/k, k the front's stiffness -∂G/∂d, a secant estimate updated at each
-move (a quasi-Newton step on the front), at most ``cap`` per move. The mesh follows by the
+their normal by a quasi-Newton step on the front (:meth:`FrontGrowth.settle`), at most ``cap``
+element sizes per move. The mesh follows by the
 harmonic extension of the outline's motion, so its cells keep their shape; the displacement's
 nodal values are the next solve's guess.
 
@@ -17,8 +17,6 @@ current one, so that the volume held is the one asked for.
 """
 
 from __future__ import annotations
-
-from mpi4py import MPI
 
 import numpy as np
 import ufl
@@ -65,6 +63,29 @@ class MeshMotion:
         self.msh.geometry.x[:, :2] += self.moved.x.array.reshape(-1, 2)[self.node_of]
 
 
+def _chain(points: np.ndarray):
+    """The outline's nodes as a closed chain ordered by polar angle about the origin (the front
+    is star-shaped about the initial centroid): (order, W the lumped lengths, H the stiffness
+    of the chain's half Laplacian, W^1/2 (W^-1/2 A W^-1/2)^1/2 W^1/2 with A the chain's
+    Laplacian, so that a front wave of wavenumber q costs ~ q, as a membrane's edge does)."""
+    order = np.argsort(np.arctan2(points[:, 1], points[:, 0]))
+    p = points[order]
+    gaps = np.linalg.norm(np.roll(p, -1, axis=0) - p, axis=1)  # node i to i + 1
+    n = len(p)
+    lumped = 0.5 * (gaps + np.roll(gaps, 1))
+    A = np.zeros((n, n))
+    for i in range(n):
+        j = (i + 1) % n
+        A[i, i] += 1 / gaps[i]
+        A[j, j] += 1 / gaps[i]
+        A[i, j] -= 1 / gaps[i]
+        A[j, i] -= 1 / gaps[i]
+    root = 1 / np.sqrt(lumped)
+    values, vectors = np.linalg.eigh(root[:, None] * A * root[None, :])
+    half = (vectors * np.sqrt(np.clip(values, 0.0, None))) @ vectors.T
+    return order, lumped, np.sqrt(lumped)[:, None] * half * np.sqrt(lumped)[None, :]
+
+
 class FrontGrowth:
     """Grow the front from the onset to each of ``volumes`` (see the module's docstring).
 
@@ -77,8 +98,8 @@ class FrontGrowth:
         tolerance: the front is in equilibrium when G <= (1 + tolerance)(w + α) on it.
     """
 
-    def __init__(self, ctx, problem, release, motion, size: float, tolerance: float = 2e-3,
-                 cap: float = 0.5, max_moves: int = 40):
+    def __init__(self, ctx, problem, release, motion, size: float, tolerance: float = 1e-4,
+                 cap: float = 0.5, max_moves: int = 60):
         kin = ctx.kin
         self.ctx, self.problem, self.release, self.motion = ctx, problem, release, motion
         self.target = ctx.constant("volume_target")
@@ -88,7 +109,8 @@ class FrontGrowth:
         self.step = cap * size
         self.tolerance = tolerance
         self.max_moves = max_moves
-        self.stiffness = 1.0  # -dG/dd in mu_f t0 / R0, first guess: the circle's order
+        self.stiffness = 1.0  # k0 = -dG/dd of a uniform advance, in mu_f t0 / R0: the circle's order
+        self.wave = 1.0  # b: a front wave of wavenumber q costs k0 + b q
         self.moves = 0
 
     def _hold(self, volume: float) -> None:
@@ -116,32 +138,55 @@ class FrontGrowth:
 
     def settle(self, volume: float) -> None:
         """Move the front until it is in equilibrium at ``volume``: G <= cost where it stayed,
-        G = cost where it moved (an overshoot is taken back, never behind where it was)."""
+        G = cost where it moved (an overshoot is taken back, never behind where it was).
+
+        The move solves (k0 W + b H) d = W (G - cost) on the nodes that may move (a
+        quasi-Newton step: a uniform advance costs k0 per length, a wave of wavenumber q about
+        k0 + b q, H of :func:`_chain`), k0 and b fitted to the last move's response."""
         comm = self.release.comm
         cost, tol = self.release.cost, self.tolerance * self.release.cost
         self.solve_to(volume)
-        excess = self.release.rates() - cost
+        local = self.release.rates() - cost
+        counts = comm.allgather(len(local))
+        offset = sum(counts[: comm.rank])
+        mine = slice(offset, offset + len(local))
+        order, lumped, half = _chain(np.vstack(comm.allgather(self.release.points)))
+        excess = np.concatenate(comm.allgather(local))[order]
         advanced = np.zeros_like(excess)
         for _ in range(self.max_moves):
             moving = advanced > 0
             # too high anywhere, or too low where the front moved in this volume's settling
-            error = np.where(moving, np.abs(excess), np.clip(excess, 0.0, None))
-            if comm.allreduce(float(error.max(initial=0.0)), op=MPI.MAX) <= tol:
+            if np.where(moving, np.abs(excess), np.clip(excess, 0.0, None)).max(initial=0.0) <= tol:
                 return
-            wanted = np.where(moving | (excess > 0), excess, 0.0) / self.stiffness
-            advance = np.clip(wanted, -advanced, self.step)
+            free = moving | (excess > 0)
+            K = self.stiffness * np.diag(lumped) + self.wave * half
+            advance = np.zeros_like(excess)
+            advance[free] = np.linalg.solve(K[np.ix_(free, free)], lumped[free] * excess[free])
+            advance = np.clip(advance, -advanced, self.step)
+            moved = np.empty_like(advance)
+            moved[order] = advance  # back to the gathered (rank) order
             share = self.release.share
             normal = share / np.linalg.norm(share, axis=1)[:, None]
-            self.motion.move(self.release.nodes, advance[:, None] * normal)
+            self.motion.move(self.release.nodes, moved[mine][:, None] * normal)
             advanced += advance
             self.moves += 1
             self.solve_to(volume)
-            after = self.release.rates() - cost
-            # secant: the rate's drop per advance where the front moved
-            drop, norm = comm.allreduce(np.array([float(np.dot(excess - after, advance)),
-                                                  float(np.dot(advance, advance))]), op=MPI.SUM)
-            if norm > 0 and drop > 0:
-                self.stiffness = min(max(drop / norm, 0.05), 1e3)
+            after = np.concatenate(comm.allgather(self.release.rates() - cost))[order]
+            self._fit(lumped * (excess - after), lumped * advance, half @ advance)
             excess = after
         raise ContinuationError(f"front growth: the front did not settle at V = {volume:.6g} in "
-                                f"{self.max_moves} moves (max G - cost = {excess.max(initial=0):.3g})")
+                                f"{self.max_moves} moves (max |G - cost| = {np.abs(excess).max():.3g})")
+
+    def _fit(self, response, uniform, wave) -> None:
+        """k0, b by least squares of response = k0 uniform + b wave (each kept within bounds;
+        b alone is not seen by a uniform move, k0 alone not by a pure wave)."""
+        M = np.array([[uniform @ uniform, uniform @ wave], [uniform @ wave, wave @ wave]])
+        rhs = np.array([uniform @ response, wave @ response])
+        if np.linalg.cond(M) < 1e8:
+            k0, b = np.linalg.solve(M, rhs)
+        elif uniform @ uniform >= wave @ wave:
+            k0, b = (rhs[0] - self.wave * M[0, 1]) / M[0, 0], self.wave
+        else:
+            k0, b = self.stiffness, (rhs[1] - self.stiffness * M[0, 1]) / M[1, 1]
+        self.stiffness = min(max(k0, 0.05), 1e3)
+        self.wave = min(max(b, 0.0), 1e3)

@@ -118,7 +118,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
                 fronts.append((target, release.gather()[0]))
                 progress(f"front {k:3d}  moves={growth.moves}  " + "  ".join(
                     f"{key}={row[key]:.6g}" for key in ("V_over_V0", "P", "R_front", "front_R_min", "front_R_max")))
-        run.results["front"] = {"moves": growth.moves, "stiffness": growth.stiffness,
+        run.results["front"] = {"moves": growth.moves, "stiffness": growth.stiffness, "wave": growth.wave,
                                 **{key: run.rows[-1][key] for key in ("V_over_V0", "P", "R_front", "front_R_min",
                                                                       "front_R_max")}}
 
