@@ -110,7 +110,7 @@ def test_two_ranks_equal_serial(tmp_path):
     runs = {}
     for ranks in (1, 2):
         out = tmp_path / f"n{ranks}"
-        done = bcfem("run", "blister-3d", "--edge", "adhesive", "--alpha", "0.5", "--size", "0.3",
+        done = bcfem("run", "blister-3d", "--edge", "adhesive", "--alpha", "0.5", "--size", "0.2",
                      "--v-max", "4", "--front-steps", "2", "--quiet", "--no-plots", "--out", out, ranks=ranks)
         assert done.returncode == 0, done.stderr
         runs[ranks] = json.loads((out / "summary.json").read_text())
