@@ -95,11 +95,15 @@ class FrontGrowth:
         release: the release rate along the outline.
         motion: the mesh's motion.
         size: the element size at the front: a move is at most ``cap`` times it.
-        tolerance: the front is in equilibrium when G <= (1 + tolerance)(w + α) on it.
+        tolerance: the front is in equilibrium when G <= (1 + tolerance)(w + α) on it (and
+            G >= (1 - tolerance)(w + α) where it moved).
+        accepted: after ``max_moves``, a front within this (relative) is kept, its residual
+            reported in the rows (``front_residual``): on a coarse mesh the rate's response to a
+            move is noisy at the 1e-4 level.
     """
 
     def __init__(self, ctx, problem, release, motion, size: float, tolerance: float = 1e-4,
-                 cap: float = 0.5, max_moves: int = 60):
+                 cap: float = 0.5, max_moves: int = 40, accepted: float = 1e-3):
         kin = ctx.kin
         self.ctx, self.problem, self.release, self.motion = ctx, problem, release, motion
         self.target = ctx.constant("volume_target")
@@ -109,6 +113,8 @@ class FrontGrowth:
         self.step = cap * size
         self.tolerance = tolerance
         self.max_moves = max_moves
+        self.accepted = accepted
+        self.residual = 0.0
         self.stiffness = 1.0  # k0 = -dG/dd of a uniform advance, in mu_f t0 / R0: the circle's order
         self.wave = 1.0  # b: a front wave of wavenumber q costs k0 + b q
         self.moves = 0
@@ -144,7 +150,7 @@ class FrontGrowth:
         quasi-Newton step: a uniform advance costs k0 per length, a wave of wavenumber q about
         k0 + b q, H of :func:`_chain`), k0 and b fitted to the last move's response."""
         comm = self.release.comm
-        cost, tol = self.release.cost, self.tolerance * self.release.cost
+        cost = self.release.cost
         self.solve_to(volume)
         local = self.release.rates() - cost
         counts = comm.allgather(len(local))
@@ -156,7 +162,8 @@ class FrontGrowth:
         for _ in range(self.max_moves):
             moving = advanced > 0
             # too high anywhere, or too low where the front moved in this volume's settling
-            if np.where(moving, np.abs(excess), np.clip(excess, 0.0, None)).max(initial=0.0) <= tol:
+            self.residual = np.where(moving, np.abs(excess), np.clip(excess, 0.0, None)).max(initial=0.0) / cost
+            if self.residual <= self.tolerance:
                 return
             free = moving | (excess > 0)
             K = self.stiffness * np.diag(lumped) + self.wave * half
@@ -174,8 +181,10 @@ class FrontGrowth:
             after = np.concatenate(comm.allgather(self.release.rates() - cost))[order]
             self._fit(lumped * (excess - after), lumped * advance, half @ advance)
             excess = after
-        raise ContinuationError(f"front growth: the front did not settle at V = {volume:.6g} in "
-                                f"{self.max_moves} moves (max |G - cost| = {np.abs(excess).max():.3g})")
+        self.residual = np.where(advanced > 0, np.abs(excess), np.clip(excess, 0.0, None)).max(initial=0.0) / cost
+        if self.residual > self.accepted:
+            raise ContinuationError(f"front growth: the front did not settle at V = {volume:.6g} in "
+                                    f"{self.max_moves} moves (max |G - cost| / cost = {self.residual:.3g})")
 
     def _fit(self, response, uniform, wave) -> None:
         """k0, b by least squares of response = k0 uniform + b wave (each kept within bounds;
@@ -188,5 +197,7 @@ class FrontGrowth:
             k0, b = (rhs[0] - self.wave * M[0, 1]) / M[0, 0], self.wave
         else:
             k0, b = self.stiffness, (rhs[1] - self.stiffness * M[0, 1]) / M[1, 1]
-        self.stiffness = min(max(k0, 0.05), 1e3)
-        self.wave = min(max(b, 0.0), 1e3)
+        # a move's response is noisy where the mesh is coarse: each fit changes k0 and b by at
+        # most a factor 2 (and keeps them within physical bounds)
+        self.stiffness = min(max(k0, 0.5 * self.stiffness, 0.05), 2 * self.stiffness, 1e3)
+        self.wave = min(max(b, 0.5 * self.wave, 0.1), 2 * self.wave, 1e3)

@@ -113,7 +113,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
             for k in range(1, params.front_steps + 1):
                 target = start + (params.v_max - start) * k / params.front_steps
                 growth.settle(target * V0)
-                row = {**observe(), "s": s0 + target - start}
+                row = {**observe(), "front_residual": growth.residual, "s": s0 + target - start}
                 run.record(row)
                 fronts.append((target, release.gather()[0]))
                 progress(f"front {k:3d}  moves={growth.moves}  " + "  ".join(

@@ -45,7 +45,7 @@ displacement on the reference outline; warp by it in ParaView)."""
 COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "N2_min",
            "wrinkled_fraction", "s"]
 ADHESIVE_COLUMNS = [*COLUMNS[:-1], "G_max", "G_mean", "G_min", "front_x", "front_y", "R_front", "front_R_min",
-                    "front_R_max", "s"]
+                    "front_R_max", "front_residual", "s"]
 EDGES = ("clamped", "adhesive")
 WRINKLES = ("taut", "relaxed")
 
