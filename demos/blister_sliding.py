@@ -63,7 +63,7 @@
 # %%
 import math
 import time
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 
 from mpi4py import MPI
 
@@ -359,12 +359,33 @@ io.write_json(args.out / "summary.json", {
 # `sliding_fig3_10.png`: the side views, mirrored about the axis.
 
 # %%
+@dataclass(frozen=True)
+class Results:
+    """What the figures draw: the branches by (phi_Y, alpha), the alpha = 0 branch, the wrapped
+    profiles and end rows by alpha, the dissertation's printed droplet aspect ratio, the demo's grid
+    (alphas, Young angles, volumes) and the run."""
+
+    branches: dict
+    plain: object
+    wrapped: dict
+    wrapped_rows: dict
+    printed_aspect: float
+    alphas: tuple
+    alpha_wrap: tuple
+    phi_y_deg: tuple
+    phi_y_main: float
+    v_edge: float
+    v_max: float
+    v_wrap: float
+    run: demo.Run
+
+
 if comm.rank == 0:
     from _figures_blister_sliding import draw
 
-    draw(ALPHAS=ALPHAS, ALPHA_WRAP=ALPHA_WRAP, PHI_Y_DEG=PHI_Y_DEG, PHI_Y_MAIN=PHI_Y_MAIN, V_EDGE=V_EDGE,
-         V_MAX=V_MAX, V_WRAP=V_WRAP, args=args, branches=branches, comm=comm, plain=plain, printed=printed,
-         report=report, wrapped=wrapped, wrapped_rows=wrapped_rows)
+    draw(Results(branches=branches, plain=plain, wrapped=wrapped, wrapped_rows=wrapped_rows, printed_aspect=printed,
+                 alphas=ALPHAS, alpha_wrap=ALPHA_WRAP, phi_y_deg=PHI_Y_DEG, phi_y_main=PHI_Y_MAIN, v_edge=V_EDGE,
+                 v_max=V_MAX, v_wrap=V_WRAP, run=demo.Run(args, comm, report)))
 
 # %% [markdown]
 # ## Assert

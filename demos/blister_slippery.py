@@ -49,7 +49,7 @@
 
 # %%
 import time
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 
 from mpi4py import MPI
 
@@ -319,12 +319,35 @@ io.write_json(args.out / "summary.json", {
 # without propagation; the circle is the onset.
 
 # %%
+@dataclass(frozen=True)
+class Results:
+    """What the figures draw: the branches to V_MAX and their free energies F by case (with or
+    without propagation), the onset event and its F, the side-view rows, F and hoop tractions at
+    V_SIDE by case, the film's parameters and the run."""
+
+    branches: dict
+    F_branches: dict
+    event: dict
+    F_onset: float
+    side_rows: dict
+    F_side: dict
+    hoop: dict
+    jm: float
+    alpha: float
+    adhesion: float
+    outer_radius: float
+    v_side: float
+    v_max: float
+    run: demo.Run
+
+
 if comm.rank == 0:
     from _figures_blister_slippery import draw
 
-    draw(ADHESION=ADHESION, ALPHA=ALPHA, F_side=F_side, JM=JM, OUTER_RADIUS=OUTER_RADIUS, V_MAX=V_MAX,
-         V_SIDE=V_SIDE, args=args, branches=branches, comm=comm, event=event, helmholtz=helmholtz, hoop=hoop,
-         report=report, side_rows=side_rows, vc=vc)
+    draw(Results(
+        branches=branches, F_branches={case: [helmholtz(r) for r in b.rows] for case, b in branches.items()},
+        event=event, F_onset=helmholtz(event), side_rows=side_rows, F_side=F_side, hoop=hoop, jm=JM, alpha=ALPHA,
+        adhesion=ADHESION, outer_radius=OUTER_RADIUS, v_side=V_SIDE, v_max=V_MAX, run=demo.Run(args, comm, report)))
 
 # %% [markdown]
 # ## Assert
