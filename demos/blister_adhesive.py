@@ -49,7 +49,8 @@
 
 # %%
 import time
-from dataclasses import asdict
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
 
 from mpi4py import MPI
 
@@ -70,7 +71,6 @@ MATERIALS = {  # name -> material fields, end of the branches (V/V0), bracket of
     "gent-Jm100": dict(fields=dict(material="gent", Jm=100.0), v_max=3.0, bracket=(1.0, 1.6)),
     "neo-hookean": dict(fields=dict(material="neo-hookean"), v_max=5.0, bracket=(2.6, 3.6)),
 }
-LABELS = {"gent-Jm100": r"Gent $J_m = 100$", "neo-hookean": "neo-Hookean"}
 ALPHA = 0.5  # gamma_l/(mu t0)
 ADHESION = 2.5  # (gamma_ls - dgamma)/(mu t0), the cost of debonding per area
 V_SIDE = 3.0  # V/V0 of the side views (Fig. 3.12); the Gent branches end there
@@ -331,14 +331,34 @@ io.write_json(args.out / "summary.json", {
 # red one, and its continuation below $V_c$ ($R_1 < R_0$) dotted.
 
 # %%
+@dataclass(frozen=True)
+class Results:
+    """What the figures draw: the branches by (material, edge), the Gent side-view profiles by
+    edge, the onsets by material, the comparison with the dissertation, the demo's interpolants
+    (``column``, ``clamped_at``, ``self_similar``, ``with_energies``), its parameters and the run."""
+
+    branches: dict
+    profiles: dict
+    onsets: dict
+    compare: dict
+    column: Callable
+    clamped_at: Callable
+    self_similar: Callable
+    with_energies: Callable
+    materials: dict
+    alpha: float
+    adhesion: float
+    v_side: float
+    run: demo.Run
 
 
 if comm.rank == 0:
     from _figures_blister_adhesive import draw
 
-    draw(ADHESION=ADHESION, ALPHA=ALPHA, LABELS=LABELS, MATERIALS=MATERIALS, V_SIDE=V_SIDE, args=args,
-         branches=branches, clamped_at=clamped_at, column=column, comm=comm, compare=compare, onsets=onsets,
-         profiles=profiles, report=report, self_similar=self_similar, with_energies=with_energies)
+    draw(Results(
+        branches=branches, profiles=profiles, onsets=onsets, compare=compare, column=column, clamped_at=clamped_at,
+        self_similar=self_similar, with_energies=with_energies, materials=MATERIALS, alpha=ALPHA, adhesion=ADHESION,
+        v_side=V_SIDE, run=demo.Run(args, comm, report)))
 
 # %% [markdown]
 # ## Assert
