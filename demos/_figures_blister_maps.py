@@ -4,36 +4,42 @@ import numpy as np
 
 from bcfem import io
 
+LABELS = {"gent-Jm100": r"Gent $J_m = 100$", "neo-hookean": "neo-Hookean"}
+PANELS = [("V_over_V1", r"$V/V_1$"), ("P1", r"$\Delta p R_1/(\mu t_0)$"),
+          ("aspect1", r"aspect ratio $z(0)/R_1$"), ("contact_angle_deg", r"contact angle $\pi - \phi_0^-$ [deg]")]
+LEVELS = {  # the same for both materials; V/V1 spans 0 ... v_max, so its levels are graded
+    "V_over_V1": [0, 0.25, 0.5, 1, 1.5, 2, 3, 4, 5, 6, 8, 10, 12.5, 15, 20, 30, 40, 50],
+    "P1": list(range(0, 25, 2)),
+    "aspect1": list(np.arange(0, 6.01, 0.5)),
+    "contact_angle_deg": list(range(0, 181, 15)),
+}
+XLABEL, YLABEL = r"$(\gamma_{ls}-\Delta\gamma)/(\mu t_0)$", r"$\gamma_l/(\mu t_0)$"
 
-def draw(
-        ADHESION_RANGE, ALPHA_RANGE, DISSERTATION_FIT, FIT_TARGET, LABELS, LEVELS, MATERIALS,
-        PANELS, XLABEL, YLABEL, args, comm, fit, full, n_adhesion, n_alpha, never, ok_points,
-        report, triangulation,
-) -> None:
-    """Draw and save the figures (rank 0)."""
+def draw(results) -> None:
+    """Draw and save Figures 3.15-3.17 (rank 0) from the demo's ``Results``."""
 
     def decorate(ax, name):
-        ax.plot([0.0, -ALPHA_RANGE[1]], [0.0, ALPHA_RANGE[1]], "-", color="k", lw=1.2)
-        ax.fill_between([ADHESION_RANGE[0], 0.0], [ALPHA_RANGE[0]] * 2, [-ADHESION_RANGE[0], 0.0], color="0.93", zorder=0)
-        ax.text(ADHESION_RANGE[0] + 0.6, 0.25 * ALPHA_RANGE[1], "no blister:\nspreads at\n" r"$V \to 0$",
+        ax.plot([0.0, -results.alpha_range[1]], [0.0, results.alpha_range[1]], "-", color="k", lw=1.2)
+        ax.fill_between([results.adhesion_range[0], 0.0], [results.alpha_range[0]] * 2, [-results.adhesion_range[0], 0.0], color="0.93", zorder=0)
+        ax.text(results.adhesion_range[0] + 0.6, 0.25 * results.alpha_range[1], "no blister:\nspreads at\n" r"$V \to 0$",
                 fontsize=7, color="0.35")
         if name == "neo-hookean":
-            alphas = [r["alpha"] for r in never]
-            ax.fill_betweenx(alphas, [r["g_sup"] for r in never], ADHESION_RANGE[1] + 1, facecolor="white",
+            alphas = [r["alpha"] for r in results.never]
+            ax.fill_betweenx(alphas, [r["g_sup"] for r in results.never], results.adhesion_range[1] + 1, facecolor="white",
                              edgecolor="0.45", hatch="///", lw=0.0, zorder=2)
-            ax.plot([r["g_sup"] for r in never], alphas, "-", color="0.2", lw=1.2, zorder=3)
-            ax.plot([r["g_limit"] for r in never], alphas, ":", color="0.2", lw=1.2, zorder=3)
-            ax.text(0.97 * ADHESION_RANGE[1], 0.5 * ALPHA_RANGE[1], "never\ndelaminates",
+            ax.plot([r["g_sup"] for r in results.never], alphas, "-", color="0.2", lw=1.2, zorder=3)
+            ax.plot([r["g_limit"] for r in results.never], alphas, ":", color="0.2", lw=1.2, zorder=3)
+            ax.text(0.97 * results.adhesion_range[1], 0.5 * results.alpha_range[1], "never\ndelaminates",
                     ha="right", fontsize=8, zorder=6, bbox=dict(fc="white", ec="none", pad=1.5))
-            if not full:  # the grid points; on the full grid they would hide the maps
-                x = [r["adhesion"] for r in ok_points[name] if not r["onset"]]
-                y = [r["alpha"] for r in ok_points[name] if not r["onset"]]
+            if not results.run.args.full:  # the grid points; on the full grid they would hide the maps
+                x = [r["adhesion"] for r in results.ok_points[name] if not r["onset"]]
+                y = [r["alpha"] for r in results.ok_points[name] if not r["onset"]]
                 ax.plot(x, y, "x", color="0.3", ms=4, zorder=4)
-        if not full:
-            done = [r for r in ok_points[name] if r["onset"]]
+        if not results.run.args.full:
+            done = [r for r in results.ok_points[name] if r["onset"]]
             ax.plot([r["adhesion"] for r in done], [r["alpha"] for r in done], ".", color="0.5", ms=2.5, zorder=4)
-        ax.set_xlim(*ADHESION_RANGE)
-        ax.set_ylim(*ALPHA_RANGE)
+        ax.set_xlim(*results.adhesion_range)
+        ax.set_ylim(*results.alpha_range)
         ax.set_xlabel(XLABEL)
         ax.set_ylabel(YLABEL)
 
@@ -46,7 +52,7 @@ def draw(
     for name, figure in files.items():
         fig, axes = plt.subplots(2, 2, figsize=(10.5, 7.6))
         for ax, (key, label), tag in zip(axes.flat, PANELS, "abcd"):
-            tri, z = triangulation(name, key)
+            tri, z = results.triangulation(name, key)
             # V/V1 is interpolated in log(1 + V/V1): it grows steeply towards the neo-Hookean boundary
             f = np.log1p if key == "V_over_V1" else (lambda v: np.asarray(v, dtype=float))
             levels = f(LEVELS[key])
@@ -58,28 +64,29 @@ def draw(
             decorate(ax, name)
             ax.text(0.97, 0.04, f"({tag})", transform=ax.transAxes, ha="right", fontweight="bold", zorder=5)
         fig.suptitle(f"After delamination onset (self-similar growth), {LABELS[name]}: "
-                     f"{n_alpha}x{n_adhesion} grid, v_max = {MATERIALS[name]['v_max']:g} V0 "
+                     f"{results.n_alpha}x{results.n_adhesion} grid, v_max = {results.materials[name]['v_max']:g} V0 "
                      f"(dissertation Fig. 3.{15 if name == 'gent-Jm100' else 16})", fontsize=10)
         fig.tight_layout()
-        io.save_figure(fig, args.out / figure, comm)
+        io.save_figure(fig, results.run.out / figure, results.run.comm)
         plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for key, level, color in (("aspect1", FIT_TARGET["aspect"], "C0"), ("P1", FIT_TARGET["P1"], "C3")):
-        tri, z = triangulation("gent-Jm100", key)
+    for key, level, color in (("aspect1", results.fit_target["aspect"], "C0"), ("P1", results.fit_target["P1"], "C3")):
+        tri, z = results.triangulation("gent-Jm100", key)
         ax.tricontour(tri, z, levels=[level], colors=color, linewidths=1.6, zorder=3)
         ax.plot([], [], "-", color=color, label=(r"$z(0)/R_1 = $" if key == "aspect1" else r"$\Delta p R_1/\mu t_0 = $")
                 + f"{level:g} (maps)")
     decorate(ax, "gent-Jm100")
-    ax.plot(fit["adhesion"], fit["alpha"], "o", ms=7, mfc="white", mec="k", mew=1.5, zorder=5,
-            label=f"fit: ({fit['alpha']:.3f}, {fit['adhesion']:.3f})")
-    ax.plot(DISSERTATION_FIT["adhesion"], DISSERTATION_FIT["alpha"], "s", ms=6, mfc="none", mec="C2", mew=1.5,
+    ax.plot(results.fit["adhesion"], results.fit["alpha"], "o", ms=7, mfc="white", mec="k", mew=1.5, zorder=5,
+            label=f"fit: ({results.fit['alpha']:.3f}, {results.fit['adhesion']:.3f})")
+    ax.plot(results.dissertation_fit["adhesion"], results.dissertation_fit["alpha"], "s", ms=6, mfc="none", mec="C2", mew=1.5,
             zorder=5, label="dissertation's reading (5.1, 15.9)")
     ax.legend(fontsize=7.5, loc="upper right", framealpha=0.95)
     ax.set_title(r"Inverse fit, Gent $J_m = 100$: $z(0)/R_1 = 2$ and $\Delta p R_1/(\mu t_0) = 10$ "
                  "(dissertation Fig. 3.17)", fontsize=9)
     fig.tight_layout()
-    io.save_figure(fig, args.out / "fit.png", comm)
+    io.save_figure(fig, results.run.out / "fit.png", results.run.comm)
     plt.close(fig)
-    report(f"wrote {args.out / 'maps.csv'}, {args.out / 'never.csv'}, {args.out / 'summary.json'}, "
-           f"{', '.join(str(args.out / f) for f in files.values())}, {args.out / 'fit.png'}")
+    out = results.run.out
+    results.run.report(f"wrote {out / 'maps.csv'}, {out / 'never.csv'}, {out / 'summary.json'}, "
+                       f"{', '.join(str(out / f) for f in files.values())}, {out / 'fit.png'}")

@@ -67,7 +67,8 @@ import json
 import logging
 import math
 import time
-from dataclasses import asdict, replace
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, replace
 
 from mpi4py import MPI
 
@@ -90,7 +91,6 @@ MATERIALS = {  # name -> material fields and v_max (V/V0) of a map point
     "gent-Jm100": dict(fields=dict(material="gent", Jm=100.0), v_max=30.0),
     "neo-hookean": dict(fields=dict(material="neo-hookean"), v_max=50.0),
 }
-LABELS = {"gent-Jm100": r"Gent $J_m = 100$", "neo-hookean": "neo-Hookean"}
 ALPHA_RANGE = (0.0, 10.0)  # gamma_l/(mu t0), ordinate
 ADHESION_RANGE = (-10.0, 20.0)  # (gamma_ls - dgamma)/(mu t0), abscissa
 GRID = {"default": (6, 6), "full": (21, 31)}  # (alpha, adhesion) points; the default grid is in the full one
@@ -351,24 +351,33 @@ io.write_json(args.out / "summary.json", {
 # fit, and the dissertation's reading.
 
 # %%
-PANELS = [("V_over_V1", r"$V/V_1$"), ("P1", r"$\Delta p R_1/(\mu t_0)$"),
-          ("aspect1", r"aspect ratio $z(0)/R_1$"), ("contact_angle_deg", r"contact angle $\pi - \phi_0^-$ [deg]")]
-LEVELS = {  # the same for both materials; V/V1 spans 0 ... v_max, so its levels are graded
-    "V_over_V1": [0, 0.25, 0.5, 1, 1.5, 2, 3, 4, 5, 6, 8, 10, 12.5, 15, 20, 30, 40, 50],
-    "P1": list(range(0, 25, 2)),
-    "aspect1": list(np.arange(0, 6.01, 0.5)),
-    "contact_angle_deg": list(range(0, 181, 15)),
-}
-XLABEL, YLABEL = r"$(\gamma_{ls}-\Delta\gamma)/(\mu t_0)$", r"$\gamma_l/(\mu t_0)$"
+@dataclass(frozen=True)
+class Results:
+    """What the figures draw: the solved map points by material, the neo-Hookean never-delaminating
+    boundary, the fit and its target, the dissertation's reading of it, the demo's ``triangulation``
+    of a map quantity, the grid (ranges, points per axis, materials) and the run."""
+
+    ok_points: dict
+    never: list
+    fit: dict
+    fit_target: dict
+    dissertation_fit: dict
+    triangulation: Callable
+    alpha_range: tuple
+    adhesion_range: tuple
+    n_alpha: int
+    n_adhesion: int
+    materials: dict
+    run: demo.Run
 
 
 if comm.rank == 0:
     from _figures_blister_maps import draw
 
-    draw(ADHESION_RANGE=ADHESION_RANGE, ALPHA_RANGE=ALPHA_RANGE, DISSERTATION_FIT=DISSERTATION_FIT,
-         FIT_TARGET=FIT_TARGET, LABELS=LABELS, LEVELS=LEVELS, MATERIALS=MATERIALS, PANELS=PANELS, XLABEL=XLABEL,
-         YLABEL=YLABEL, args=args, comm=comm, fit=fit, full=full, n_adhesion=n_adhesion, n_alpha=n_alpha,
-         never=never, ok_points=ok_points, report=report, triangulation=triangulation)
+    draw(Results(
+        ok_points=ok_points, never=never, fit=fit, fit_target=FIT_TARGET, dissertation_fit=DISSERTATION_FIT,
+        triangulation=triangulation, alpha_range=ALPHA_RANGE, adhesion_range=ADHESION_RANGE, n_alpha=n_alpha,
+        n_adhesion=n_adhesion, materials=MATERIALS, run=demo.Run(args, comm, report)))
 
 # %% [markdown]
 # ## Assert
