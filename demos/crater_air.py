@@ -64,7 +64,7 @@ import hashlib
 import json
 import math
 import time
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, replace
 
 from mpi4py import MPI
 
@@ -87,8 +87,6 @@ GRID = {"default": [0.1, 0.2, 0.4, 0.45],
 # Fig. 7.5b shows 0.35 (at 0.35 our unloading fails: wall creasing); the default grid draws a
 # cheaper cycle (0.3 takes 45 s, 0.2 takes 4 s)
 SHAPE_PRELOADS = {"default": 0.2, "full": 0.3}
-SHAPE_LOAD = [0.0, 0.1, 0.2, 0.25, 0.3]  # loading states drawn (nearest accepted step), up to the preload
-SHAPE_PANELS_UNLOAD = 5  # unloading states drawn, from the preload to zero platen force
 DISSERTATION = {"eps_c": 0.43, "dp_c_over_pa": 0.83, "eps_closure": 0.47}
 POINT_VERSION = 3  # bump when `cycle` returns other fields (old sweep points are then not reused)
 CLOSED = 1e-8  # V/V0 below which the crater is closed (as the scene's eps_closure)
@@ -275,17 +273,32 @@ io.write_json(args.out / "summary.json", {
 # the crater wall (blue), the wall at rest (dotted) and the plate (black).
 
 # %%
-EVENT_STYLE = {"stability": dict(marker="o", ms=11, mfc="none", mec="C1", mew=1.4, ls="none"),
-               "snap": dict(marker="x", ms=9, color="C3", mew=1.6, ls="none")}
+@dataclass(frozen=True)
+class Results:
+    """What the figures draw: the solved and failed preloads of the sweep, the large specimen's
+    points, the closure bracket, the first loading instabilities, the recorded cycle at
+    ``shape_preload`` (rank 0), the two specimens' parameters, the dissertation's values and the run."""
+
+    ok: list
+    failed: list
+    large: list
+    closure: dict
+    loading_instability: list
+    shape: object
+    shape_preload: float
+    base: crater.Params
+    large_params: crater.Params
+    dissertation: dict
+    run: demo.Run
 
 
 if comm.rank == 0:
     from _figures_crater_air import draw
 
-    draw(BASE=BASE, DISSERTATION=DISSERTATION, EVENT_STYLE=EVENT_STYLE, LARGE=LARGE, SHAPE_LOAD=SHAPE_LOAD,
-         SHAPE_PANELS_UNLOAD=SHAPE_PANELS_UNLOAD, SHAPE_PRELOAD=SHAPE_PRELOAD, args=args, closure=closure,
-         comm=comm, failed=failed, large=large, loading_instability=loading_instability, ok=ok, report=report,
-         shape=shape)
+    draw(Results(
+        ok=ok, failed=failed, large=large, closure=closure, loading_instability=loading_instability, shape=shape,
+        shape_preload=SHAPE_PRELOAD, base=BASE, large_params=LARGE, dissertation=DISSERTATION,
+        run=demo.Run(args, comm, report)))
 
 # %% [markdown]
 # ## Table
