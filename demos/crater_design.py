@@ -47,7 +47,8 @@
 # %%
 import json
 import time
-from dataclasses import asdict, replace
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, replace
 
 from mpi4py import MPI
 
@@ -316,16 +317,33 @@ io.write_json(args.out / "summary.json", {
 # drawn as labelled dots.
 
 # %%
-STABILITY_COLOURS = {"stable": "tab:blue", "unstable-unloading": "tab:red", "unstable-both": "tab:green"}
+@dataclass(frozen=True)
+class Results:
+    """What the figures draw: the map rows by figure name (``maps``) with the demo's filters of them
+    (``ok``, ``on_saddle``, ``still_open``), the recorded shape cycles of Figs. 7.10 and 7.12 and the
+    shapes that failed, the grids of shapes tried, the dissertation's values and the run."""
+
+    maps: dict
+    ok: Callable
+    on_saddle: Callable
+    still_open: Callable
+    shapes_7_10: dict
+    types_7_12: dict
+    failed_shapes: dict
+    shape_grid_7_10: list
+    type_grid_7_12: dict
+    quick_shapes: dict
+    dissertation: dict
+    run: demo.Run
 
 
 if comm.rank == 0:
     from _figures_crater_design import draw
 
-    draw(DISSERTATION=DISSERTATION, QUICK_SHAPES=QUICK_SHAPES, SHAPES_7_10=SHAPES_7_10,
-         STABILITY_COLOURS=STABILITY_COLOURS, TYPES_7_12=TYPES_7_12, args=args, comm=comm,
-         failed_shapes=failed_shapes, ok=ok, on_saddle=on_saddle, report=report, results=results,
-         shapes_7_10=shapes_7_10, still_open=still_open, types_7_12=types_7_12)
+    draw(Results(
+        maps=results, ok=ok, on_saddle=on_saddle, still_open=still_open, shapes_7_10=shapes_7_10,
+        types_7_12=types_7_12, failed_shapes=failed_shapes, shape_grid_7_10=SHAPES_7_10, type_grid_7_12=TYPES_7_12,
+        quick_shapes=QUICK_SHAPES, dissertation=DISSERTATION, run=demo.Run(args, comm, report)))
 
 # %% [markdown]
 # ## Assert
