@@ -78,6 +78,21 @@ def test_every_demo_takes_the_common_flags():
         assert "argparse" not in imported, f"{path.name} parses flags of its own"
 
 
+def test_every_figure_module_draws_one_results_object():
+    """Each ``demos/_figures_<demo>.py`` has ``draw(results)``: one argument, the demo's results
+    object (what the solve produced and the run), and its demo calls it with one positional argument."""
+    figures = sorted(DEMOS[0].parent.glob("_figures_*.py"))
+    assert figures, "no demos/_figures_*.py"
+    for path in figures:
+        draw = next(n for n in ast.parse(path.read_text()).body if isinstance(n, ast.FunctionDef) and n.name == "draw")
+        names = [a.arg for a in draw.args.posonlyargs + draw.args.args + draw.args.kwonlyargs]
+        assert names == ["results"] and not draw.args.vararg and not draw.args.kwarg, (path.name, names)
+        demo = path.with_name(path.name.removeprefix("_figures_"))
+        calls = [n for n in ast.walk(ast.parse(demo.read_text()))
+                 if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "draw"]
+        assert calls and all(len(c.args) == 1 and not c.keywords for c in calls), demo.name
+
+
 def test_a_demo_help_lists_the_flags():
     demo = next(d for d in DEMOS if d.stem == "blister_theories")
     res = subprocess.run([sys.executable, str(demo), "--help"], capture_output=True, text=True, timeout=120)
