@@ -7,6 +7,7 @@ import math
 
 from mpi4py import MPI
 
+import numpy as np
 import pytest
 
 from bcfem.run.runner import branch_of, solve_rows
@@ -21,7 +22,7 @@ COST = 3.0  # alpha + gamma_ls - dgamma
 def rigid(**params):
     """blister-rigid's adhesive edge on the same case: its branch."""
     return branch_of(blister_rigid.build(blister_rigid.Params(
-        material="neo-hookean", alpha=0.5, edge="adhesive", adhesion=2.5, **params), MPI.COMM_WORLD))
+        **{"material": "neo-hookean", "alpha": 0.5, "edge": "adhesive", "adhesion": 2.5, **params}), MPI.COMM_WORLD))
 
 
 def planar(**params):
@@ -128,3 +129,39 @@ def test_two_ranks_equal_serial(tmp_path):
 def test_bad_adhesion_exits_2(tmp_path, argv, name):
     assert name in refused("run", "blister-3d", "--edge", "adhesive", *argv, out=tmp_path / "out")
 
+
+
+@pytest.mark.slow
+def test_circle_front_is_held_by_a_disc_of_stronger_adhesion_as_axisymmetric():
+    """Δγ a step in the radius (0.5 within 1.1, 0 beyond, width 0.2): the front grows into the
+    step and is held there; at V/V0 = 6 its radius is blister-rigid's with the same profile of
+    its --adhesion (gamma_ls - dgamma: 2.5 within, 3 beyond) to 0.5 %."""
+    from bcfem.radial_profile import parse
+
+    reference = rigid(v_max=6.0, adhesion=parse("step:1.1:2.5:3:0.2")).rows[-1]
+    rows, _ = grown(delta_gamma=parse("step:1.1:0.5:0:0.2"), size=0.1, v_max=6.0, front_steps=4)
+    assert rows[-1]["R_front"] == pytest.approx(reference["R1_over_R0"], rel=5e-3)
+    assert 1.0 < rows[-1]["R_front"] < 1.1
+
+
+@pytest.mark.slow
+def test_stripes_debond_first_where_the_adhesion_is_weakest():
+    """Stripes of period 0.5 (dgamma from 0 to 1 in x): the onset is where debonding costs
+    least (dgamma near its top, 1), far earlier than the uniform circle's."""
+    from bcfem.scenes.blister_3d.pattern import parse
+
+    stripes = parse("stripes:0.5:0:1")
+    branch = planar(delta_gamma=stripes, size=0.15, v_max=3.5, front_steps=0)
+    onset = next(e for e in branch.events if e["name"] == "delamination onset")
+    where = np.array([[onset["front_x"], onset["front_y"]]])
+    assert stripes.at(where)[0] > 0.9
+    assert onset["V_over_V0"] < 2.0
+
+
+@pytest.mark.parametrize("argv, name", [
+    (["--delta-gamma", "stripes:0:0:1"], "--delta-gamma"),
+    (["--delta-gamma", "step:1.1:0.5:0", "--size", "0.1"], "--delta-gamma"),  # width 0.05 < 2 elements
+    (["--delta-gamma", "stripes:0.5:0:4"], "--delta-gamma"),  # debonding the stripes costs nothing
+])
+def test_bad_pattern_exits_2(tmp_path, argv, name):
+    assert name in refused("run", "blister-3d", "--edge", "adhesive", *argv, out=tmp_path / "out")

@@ -152,7 +152,7 @@ class FrontGrowth:
         comm = self.release.comm
         cost = self.release.cost
         self.solve_to(volume)
-        local = self.release.rates() - cost
+        local = self.release.excess()
         counts = comm.allgather(len(local))
         offset = sum(counts[: comm.rank])
         mine = slice(offset, offset + len(local))
@@ -178,7 +178,7 @@ class FrontGrowth:
             advanced += advance
             self.moves += 1
             self.solve_to(volume)
-            after = np.concatenate(comm.allgather(self.release.rates() - cost))[order]
+            after = np.concatenate(comm.allgather(self.release.excess()))[order]
             self._fit(lumped * (excess - after), lumped * advance, half @ advance)
             excess = after
         self.residual = np.where(advanced > 0, np.abs(excess), np.clip(excess, 0.0, None)).max(initial=0.0) / cost

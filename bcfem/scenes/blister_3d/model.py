@@ -21,6 +21,8 @@ from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension, WettedSubstrate
 from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
 from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, COLUMNS, V0, Params
+from bcfem.scenes.blister_3d.pattern import PatternedWetting, values_of, varies
+from bcfem.scenes.blister_3d.pattern import at as dgamma_at
 from bcfem.scenes.blister_3d.release import ReleaseRate
 from bcfem.scenes.blister_3d.report import MembraneScene
 from bcfem.scenes.blister_3d.start import FopplStart
@@ -42,8 +44,10 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
         terms.append(SurfaceTension(params.alpha))
     terms.append(PressureVolume())
     adhesive = params.edge == "adhesive"
+    patterned = varies(params.delta_gamma)
     if adhesive:  # the liquid's share of the substrate, pi r^2 for the circle: its cost w per area
-        terms.append(WettedSubstrate(params.adhesion_cost))
+        terms.append(PatternedWetting(params.gamma_ls, params.delta_gamma) if patterned
+                     else WettedSubstrate(params.adhesion_cost))
     terms.extend(extra_terms)
 
     guess = FopplStart(V, edge_facets)
@@ -71,12 +75,14 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
              for f, e in ((measures, ufl.as_vector([*kin.principal_stretches(), N2])),
                           (direction, kin.tension_direction()))]
 
-    cost = params.adhesion_cost + params.alpha
+    scale = params.alpha + params.gamma_ls - float(np.mean(values_of(params.delta_gamma)))
+    cost = ((lambda points: params.alpha + params.gamma_ls - dgamma_at(params.delta_gamma, points)) if patterned
+            else params.adhesion_cost + params.alpha)
     release = None
     if adhesive:  # Pi with the pressure's work -p V (under volume control the target is no energy)
         work = kin.integral(-pressure * kin.volume_density)
         release = ReleaseRate(ctx, sum(t.energy(ctx) for t in terms if not isinstance(t, PressureVolume)) + work,
-                              edge_facets, cost)
+                              edge_facets, cost, scale)
 
     def observe() -> dict:
         for f, expression in drawn:
@@ -90,13 +96,14 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     def end(values) -> float:
         # the adhesive edge's branch ends at the onset (the front then moves: grow), or, if it is
         # not to move, where all of the outline is over-critical
-        last = "G_max" if params.front_steps else "G_min"
-        return max(values["V_over_V0"] - params.v_max, values[last] - cost if release else -math.inf)
+        last = "excess_max" if params.front_steps else "excess_min"
+        return max(values["V_over_V0"] - params.v_max, values[last] if release else -math.inf)
 
     # where the release rate first reaches the cost somewhere (the onset) and on average (a front
     # that moves uniformly: the circle's axisymmetric onset); they change nothing
-    switches = [Switch(name, lambda values, key=key: values[key] - cost, lambda: None)
-                for name, key in (("delamination onset", "G_max"), ("uniform onset", "G_mean"))] if release else []
+    events = (("delamination onset", "excess_max"), ("uniform onset", "excess_mean"))
+    switches = [Switch(name, lambda values, key=key: values[key], lambda: None)
+                for name, key in events] if release else []
     area = fem.form(kin.integral(1.0))
     fronts = []
 
@@ -136,7 +143,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
                  progress_keys=("V_over_V0", "P", "aspect", *(("G_max", "G_min") if release else ())),
                  fields=[u, measures, direction], release=release, switches=switches,
                  after=grow if release and params.front_steps else None, fronts=fronts,
-                 summarize=(lambda branch: onset(branch, cost)) if release else None,
+                 summarize=(lambda branch: onset(branch, scale)) if release else None,
                  continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
                  load_scale=max(1.0, 2 * params.alpha), guard=guard, params=params,
@@ -149,10 +156,10 @@ def onset(branch, cost: float) -> dict:
     branch is its last row (the end wins over an event in the same step)."""
     events = {event["name"]: event for event in branch.events}
     last = branch.rows[-1]
-    for name, key in (("delamination onset", "G_max"), ("uniform onset", "G_mean")):
-        if name not in events and abs(last[key] - cost) <= 1e-6 * cost:
+    for name, key in (("delamination onset", "excess_max"), ("uniform onset", "excess_mean")):
+        if name not in events and abs(last[key]) <= 1e-6 * cost:
             events[name] = last
-    keys = {"delamination onset": ("V_over_V0", "P", "aspect", "G_mean", "G_min", "front_x", "front_y"),
-            "uniform onset": ("V_over_V0", "P", "aspect", "G_max", "G_min")}
+    keys = {"delamination onset": ("V_over_V0", "P", "aspect", "G_max", "G_mean", "G_min", "front_x", "front_y"),
+            "uniform onset": ("V_over_V0", "P", "aspect", "G_max", "G_mean", "G_min")}
     return {name.replace(" ", "_"): {key: events[name][key] for key in keys[name]} if name in events else None
             for name in keys}

@@ -12,6 +12,9 @@ from dataclasses import dataclass, field
 from bcfem.geometry.outline import KINDS, Outline, read_vertices
 from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, describe, require
 from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
+from bcfem.radial_profile import RadialProfile, check_resolved
+from bcfem.scenes.blister_3d.pattern import Pattern, values_of, varies
+from bcfem.scenes.blister_3d.pattern import parse as parse_pattern
 
 SUMMARY = "membrane blister of any outline on a rigid substrate, in 3-D (ch. 10 outlook)"
 DESCRIPTION = """\
@@ -44,7 +47,8 @@ state rendered, coloured by the major stretch), DIR/fields.bp (VTX: the
 displacement on the reference outline; warp by it in ParaView)."""
 COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "N2_min",
            "wrinkled_fraction", "s"]
-ADHESIVE_COLUMNS = [*COLUMNS[:-1], "G_max", "G_mean", "G_min", "front_x", "front_y", "R_front", "front_R_min",
+ADHESIVE_COLUMNS = [*COLUMNS[:-1], "G_max", "G_mean", "G_min", "excess_max", "excess_mean", "excess_min",
+                    "front_x", "front_y", "R_front", "front_R_min",
                     "front_R_max", "front_residual", "s"]
 EDGES = ("clamped", "adhesive")
 WRINKLES = ("taut", "relaxed")
@@ -72,9 +76,12 @@ class Params:
         "release rate somewhere on it reaches the cost of debonding: the onset)", "", EDGES))
     gamma_ls: float = field(default=3.0, metadata=describe(
         "adhesive edge: gamma_ls / (mu_f t0), the liquid-substrate interface energy", bound=Bound(0, 1e4)))
-    delta_gamma: float = field(default=0.5, metadata=describe(
+    delta_gamma: float | Pattern | RadialProfile = field(default=0.5, metadata={**describe(
         "adhesive edge: dgamma / (mu_f t0), the film-substrate adhesion (debonding a unit area costs "
-        "alpha + gamma_ls - dgamma > 0)", bound=Bound(0, 1e4)))
+        "alpha + gamma_ls - dgamma > 0): a number, stripes:PERIOD:LOW:HIGH (a cosine in x), or a "
+        "profile of the distance from the centroid as blister-rigid's --adhesion takes it "
+        "(step:R_s:inner:outer[:width], ramp:..., table:FILE[:width]); lengths over R0"),
+        "parse": parse_pattern})
     front_steps: int = field(default=8, metadata=describe(
         "adhesive edge: volumes from the onset to --v-max at which the front is moved to equilibrium "
         "(0: stop at the onset)", bound=Bound(0, 200, integer=True)))
@@ -105,10 +112,17 @@ class Params:
                 "--vertices FILE is needed for --outline polygon, and only for it")
         require(self.aspect == 1.0 or self.outline in ("ellipse", "rectangle"),
                 f"--aspect applies to an ellipse or a rectangle (got --outline {self.outline})")
+        dgamma = values_of(self.delta_gamma)
+        require(all(isinstance(v, int | float) and 0 <= v <= 1e4 for v in dgamma),
+                f"--delta-gamma takes values in [0, 10000] (got {self.delta_gamma})")
+        require(not varies(self.delta_gamma) or self.edge == "adhesive",
+                "--delta-gamma takes a pattern with --edge adhesive only")
+        if isinstance(self.delta_gamma, RadialProfile):
+            check_resolved(self.delta_gamma, self.size, "--delta-gamma", f"(--size {self.size:g})")
         if self.edge == "adhesive":
-            require(self.alpha + self.gamma_ls - self.delta_gamma > 0,
-                    f"--delta-gamma: debonding must cost energy, alpha + gamma_ls - dgamma > 0 (got "
-                    f"{self.alpha:g} + {self.gamma_ls:g} - {self.delta_gamma:g})")
+            require(self.alpha + self.gamma_ls - max(dgamma) > 0,
+                    f"--delta-gamma: debonding must cost energy everywhere, alpha + gamma_ls - dgamma > 0 (got "
+                    f"{self.alpha:g} + {self.gamma_ls:g} - {max(dgamma):g})")
         check_meshable(self.geometry().estimated_cells(), "--size")
 
     def geometry(self) -> Outline:
@@ -118,7 +132,7 @@ class Params:
 
     @property
     def adhesion_cost(self) -> float:
-        """w = (gamma_ls - dgamma) / (mu_f t0), per debonded projected area."""
+        """w = (gamma_ls - dgamma) / (mu_f t0), per debonded projected area (a uniform dgamma)."""
         return self.gamma_ls - self.delta_gamma
 
     def material_model(self):

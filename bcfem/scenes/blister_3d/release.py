@@ -52,14 +52,17 @@ class ReleaseRate:
         energy: the free energy Π as a form, with the debonding cost's share (``WettedSubstrate``)
             and the pressure's work -p V (not a volume constraint's target, which is no energy).
         edge_facets: the outline's facets.
-        cost: w + α, subtracted off (the rate is reported as G itself).
+        cost: w + α, the cost of debonding a unit area: a number, or a function of the points
+            (an (n, 2) array) for a patterned adhesion.
+        scale: the cost's typical size (the front's tolerance is relative to it).
     """
 
-    def __init__(self, ctx, energy, edge_facets, cost: float):
+    def __init__(self, ctx, energy, edge_facets, cost, scale: float):
         msh = ctx.mesh
         msh.topology.create_connectivity(1, 2)
         self.comm = msh.comm
-        self.cost = cost
+        self.cost_at = cost if callable(cost) else (lambda points: np.full(len(points), float(cost)))
+        self.cost = scale
         # vertex hats (P1) for the motions: a node's share spans its two outline edges, which
         # averages the P2 fields' alternation between vertices and midpoints
         W = fem.functionspace(msh, ("Lagrange", 1, (2,)))
@@ -90,31 +93,46 @@ class ReleaseRate:
         """The (X, Y) of this rank's outline nodes."""
         return self.space.tabulate_dof_coordinates()[self.nodes, :2]
 
-    def rates(self) -> np.ndarray:
-        """G at this rank's outline nodes (their coordinates: ``points``)."""
+    def excess(self) -> np.ndarray:
+        """G - cost at this rank's outline nodes (their coordinates: ``points``)."""
         g = _assembled(self.forces).reshape(-1, self.bs)[: self.owned][self.nodes]
         share = self.share
-        return self.cost - np.einsum("ij,ij->i", g, share) / np.einsum("ij,ij->i", share, share)
+        return -np.einsum("ij,ij->i", g, share) / np.einsum("ij,ij->i", share, share)
+
+    def rates(self) -> np.ndarray:
+        """G at this rank's outline nodes."""
+        return self.excess() + self.cost_at(self.points)
 
     def __call__(self) -> dict:
-        """``G_max``, ``G_mean`` (length-weighted) and ``G_min`` over the outline, in mu_f t0,
-        where the largest is (``front_x``, ``front_y``), and the outline's least and largest
-        distance from the origin, the initial centroid (``front_R_min``, ``front_R_max``)."""
-        G = self.rates()
-        length = np.linalg.norm(self.share, axis=1)
-        total = self.comm.allreduce(np.array([float(np.dot(G, length)), float(length.sum())]), op=MPI.SUM)
+        """``G_max``, ``G_mean`` (length-weighted) and ``G_min`` over the outline, in mu_f t0; the
+        same of G - cost (``excess_max``, ``excess_mean``, ``excess_min``: the onset is where the
+        largest reaches 0), and where it is largest (``front_x``, ``front_y``); and the outline's
+        least and largest distance from the origin, the initial centroid (``front_R_min``,
+        ``front_R_max``)."""
         points = self.points
-        local = (float(G.max()), *map(float, points[np.argmax(G)])) if G.size else (-math.inf, 0.0, 0.0)
+        excess = self.excess()
+        G = excess + self.cost_at(points)
+        length = np.linalg.norm(self.share, axis=1)
+        total = self.comm.allreduce(np.array([float(np.dot(G, length)), float(np.dot(excess, length)),
+                                              float(length.sum())]), op=MPI.SUM)
+        local = (float(excess.max()), *map(float, points[np.argmax(excess)])) if excess.size else (-math.inf, 0, 0)
         top = max(self.comm.allgather(local))
-        low = self.comm.allreduce(float(G.min(initial=math.inf)), op=MPI.MIN)
         radius = np.linalg.norm(points, axis=1)
-        return {"G_max": top[0], "G_mean": total[0] / total[1], "G_min": low, "front_x": top[1], "front_y": top[2],
+
+        def extreme(values, op):
+            return self.comm.allreduce(float(values.max(initial=-math.inf) if op is MPI.MAX
+                                             else values.min(initial=math.inf)), op=op)
+
+        return {"G_max": extreme(G, MPI.MAX), "G_mean": total[0] / total[2], "G_min": extreme(G, MPI.MIN),
+                "excess_max": top[0], "excess_mean": total[1] / total[2], "excess_min": extreme(excess, MPI.MIN),
+                "front_x": top[1], "front_y": top[2],
                 "front_R_min": self.comm.allreduce(float(radius.min(initial=math.inf)), op=MPI.MIN),
                 "front_R_max": self.comm.allreduce(float(radius.max(initial=-math.inf)), op=MPI.MAX)}
 
     def gather(self):
-        """(points, G) of the whole outline on every rank, ordered by angle about the centroid."""
+        """(points, G, cost) of the whole outline on every rank, ordered by angle about the
+        centroid."""
         points = np.vstack(self.comm.allgather(self.points))
         G = np.concatenate(self.comm.allgather(self.rates()))
         order = np.argsort(np.arctan2(points[:, 1], points[:, 0]))
-        return points[order], G[order]
+        return points[order], G[order], self.cost_at(points[order])

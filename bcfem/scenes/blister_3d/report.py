@@ -55,9 +55,9 @@ def membrane_figure(parts, title: str, colour: str = "major stretch"):
     return fig
 
 
-def release_figure(points, G, cost: float, title: str):
-    """The release rate along the outline over the cost of debonding, against the polar angle,
-    with the outline drawn in the plane (rank 0)."""
+def release_figure(points, G, cost, title: str):
+    """The release rate along the outline over the cost of debonding there (an array, or a
+    number), against the polar angle, with the outline drawn in the plane (rank 0)."""
     import matplotlib.pyplot as plt
 
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
@@ -120,7 +120,7 @@ class MembraneScene(Scene):
         if getattr(self, "_outline", None):
             last = rows[-1]
             figures["release.png"] = release_figure(
-                *self._outline, self.release.cost, f"V/V0 = {last['V_over_V0']:.4g}, P = {last['P']:.4g}")
+                *self._outline, f"V/V0 = {last['V_over_V0']:.4g}, P = {last['P']:.4g}")
         if len(self.fronts) > 1:
             figures["front.png"] = fronts_figure(self.fronts, f"{self.name}: the debond front as it grows")
         return figures
