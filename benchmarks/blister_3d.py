@@ -4,25 +4,42 @@ neo-Hookean, alpha = 0, whose P_max is known from the axisymmetric scene.
 The reference is blister-rigid's P_max on P2 meshes of 800 and 1600 cells, extrapolated
 (h^4). Each 3-D case is ``bcfem run blister-3d --v-max 1`` on 1 or 2 ranks over element sizes
 and displacement degrees; its wall time is the run's own (summary.json), meshing and JIT
-included. Writes ``docs/benchmarks/blister-3d.{csv,md,png}``.
+included. Writes ``docs/benchmarks/blister-3d.{csv,json,md,png}``; the report is
+``benchmarks/templates/blister-3d.md`` filled from the CSV and the JSON.
 
-Run from the repository root: ``.venv/bin/python benchmarks/blister_3d.py`` (about 5 min).
+Run from the repository root: ``.venv/bin/python benchmarks/blister_3d.py`` (about 5 min);
+``--render-only`` renders the report again from the CSV and JSON that are there.
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import tempfile
 from pathlib import Path
 
-from common import ROOT, atomic_text, csv_text, loadavg, mpirun_bcfem, richardson, save_figure, wait_idle
+from common import (
+    ROOT,
+    atomic_text,
+    csv_text,
+    loadavg,
+    mpirun_bcfem,
+    provenance,
+    provenance_note,
+    read_csv,
+    render,
+    richardson,
+    save_figure,
+    table,
+    wait_idle,
+    write_report,
+)
 
 OUT = ROOT / "docs" / "benchmarks"
 SIZES = {1: [0.4, 0.2, 0.1, 0.05], 2: [0.4, 0.2, 0.1, 0.05], 3: [0.4, 0.2, 0.1]}
 RANKS = (1, 2)
 COLUMNS = ["degree", "size", "ranks", "dofs", "P_max", "error", "wall_time_s", "V_at_max"]
-COMMAND = "bcfem run blister-3d --size {size} --degree {degree} --v-max 1"
 
 
 def axisymmetric_reference() -> float:
@@ -52,40 +69,24 @@ def case(degree: int, size: float, ranks: int) -> dict:
             "wall_time_s": summary["wall_time_s"], "V_at_max": top["V_over_V0"]}
 
 
-def main() -> None:
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: the template filled with the rows (CSV) and the summary (JSON)."""
+    def rate(row):
+        previous = next((r for r in rows if r["degree"] == row["degree"] and r["ranks"] == row["ranks"]
+                         and r["size"] == 2 * row["size"]), None)
+        return f"{math.log2(previous['error'] / row['error']):.2f}" if previous and row["error"] > 0 else ""
+
+    columns = [("degree", "{degree}"), ("size / R0", "{size:g}"), ("ranks", "{ranks}"), ("dofs", "{dofs}"),
+               ("P_max", "{P_max:.7f}"), ("relative error", "{error:.2e}"), ("observed rate", rate),
+               ("wall time [s]", "{wall_time_s:.1f}")]
+    return render("blister-3d.md", rows, summary, table=table(rows, columns), provenance=provenance_note(summary))
+
+
+def figure(rows: list[dict]) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    waited, busy = wait_idle(600)
-    load = f"{busy:.1f} cores busy after {waited:.0f} s of waiting; load average {loadavg()}"
-    reference = axisymmetric_reference()
-    rows = []
-    for degree, sizes in SIZES.items():
-        for size in sizes:
-            for ranks in RANKS:
-                row = case(degree, size, ranks)
-                row["error"] = abs(row["P_max"] - reference) / reference
-                rows.append(row)
-                print(row, flush=True)
-    atomic_text(OUT / "blister-3d.csv", csv_text(rows, COLUMNS))
-
-    lines = ["# blister-3d: P_max of the clamped circle against wall time", "",
-             f"Reference: blister-rigid's P_max, neo-Hookean, alpha = 0, P2 on 800 and 1600 cells, "
-             f"Richardson (h^4): **{reference:.9f}**. Each row: `{COMMAND}` on 1 or 2 ranks "
-             "(`mpirun -n 2`); wall time from summary.json (meshing, JIT and the branch to V/V0 = 1). "
-             f"Machine at the start: {load} (times on a busy machine are upper bounds).", "",
-             "| degree | size / R0 | ranks | dofs | P_max | relative error | observed rate | wall time [s] |",
-             "|---|---|---|---|---|---|---|---|"]
-    for row in rows:
-        previous = next((r for r in rows if r["degree"] == row["degree"] and r["ranks"] == row["ranks"]
-                         and r["size"] == 2 * row["size"]), None)
-        rate = (math.log2(previous["error"] / row["error"]) if previous and row["error"] > 0 else None)
-        lines.append(f"| {row['degree']} | {row['size']:g} | {row['ranks']} | {row['dofs']} | {row['P_max']:.7f} "
-                     f"| {row['error']:.2e} | {'' if rate is None else f'{rate:.2f}'} | {row['wall_time_s']:.1f} |")
-    lines += ["", "Reproduce: `.venv/bin/python benchmarks/blister_3d.py`."]
-    atomic_text(OUT / "blister-3d.md", "\n".join(lines) + "\n")
 
     fig, ax = plt.subplots(figsize=(6, 4.5))
     for degree in SIZES:
@@ -99,6 +100,33 @@ def main() -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     save_figure(fig, OUT / "blister-3d.png")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--render-only", action="store_true",
+                        help="render blister-3d.md again from the blister-3d.csv and .json that are there")
+    if parser.parse_args().render_only:
+        write_report(OUT / "blister-3d.md", report(read_csv(OUT / "blister-3d.csv"),
+                                                    json.loads((OUT / "blister-3d.json").read_text())))
+        return
+    waited, busy = wait_idle(600)
+    load = f"{busy:.1f} cores busy after {waited:.0f} s of waiting; load average {loadavg()}"
+    reference = axisymmetric_reference()
+    rows = []
+    for degree, sizes in SIZES.items():
+        for size in sizes:
+            for ranks in RANKS:
+                row = case(degree, size, ranks)
+                row["error"] = abs(row["P_max"] - reference) / reference
+                rows.append(row)
+                print(row, flush=True)
+    summary = {"reference": reference, "machine": f"{load} (times on a busy machine are upper bounds)",
+               "provenance": provenance()}
+    atomic_text(OUT / "blister-3d.csv", csv_text(rows, COLUMNS))
+    atomic_text(OUT / "blister-3d.json", json.dumps(summary, indent=1) + "\n")
+    write_report(OUT / "blister-3d.md", report(rows, summary))
+    figure(rows)
 
 
 if __name__ == "__main__":

@@ -1,42 +1,89 @@
-"""What the benchmark scripts share: one-core worker processes, Newton counting,
-Richardson extrapolation, atomic text output and table formatting."""
+"""What the benchmark scripts share: machine pinning (one core, one thread), the idle wait,
+provenance (commit, versions, CPU, date), the worker prologue, Newton counting, Richardson
+extrapolation, atomic text output, and reports rendered from templates fed by a benchmark's
+CSV and summary JSON."""
 
 from __future__ import annotations
 
 import csv
+import datetime
 import io
 import json
 import math
 import os
+import platform
+import re
 import shutil
+import string
 import subprocess
 import sys
 import time
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 from bcfem.path.roots import bracketed_root  # dolfinx-free
 
 ROOT = Path(__file__).resolve().parents[1]
+TEMPLATES = Path(__file__).resolve().parent / "templates"
+
+# ----------------------------------------------------------------------------------------
+# machine pinning and the worker protocol
+# ----------------------------------------------------------------------------------------
+#: one BLAS/OpenMP thread: a pinned run must not spread over the other core
+ONE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+#: the line a worker prints its result on (JSON after the tag)
+RESULT = "RESULT "
+
+
+def one_core_env(**extra: str) -> dict:
+    """The environment of a pinned run: one thread, ``extra`` set, and the user's PETSC_OPTIONS
+    left out (the kept results must not depend on them)."""
+    env = {**os.environ, **ONE_THREAD, **extra}
+    env.pop("PETSC_OPTIONS", None)
+    return env
+
+
+def pinned(cmd: Sequence[str], core: str = "0") -> list[str]:
+    """``cmd`` pinned to ``core`` with ``taskset -c`` (unchanged where taskset is missing)."""
+    return ["taskset", "-c", core, *cmd] if shutil.which("taskset") else list(cmd)
+
+
+def worker_prologue():
+    """What every worker does first: ``dolfinx_solver`` before dolfinx/petsc4py, then bcfem's
+    logging configured quiet on COMM_WORLD. Returns COMM_WORLD."""
+    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
+    from mpi4py import MPI
+
+    from bcfem.log import configure
+
+    configure(MPI.COMM_WORLD, quiet=True)
+    return MPI.COMM_WORLD
+
+
+def emit(result: dict) -> None:
+    """Print a worker's result for :func:`worker_result` (stdout, one line)."""
+    print(RESULT + json.dumps(result), flush=True)
+
+
+def worker_result(stdout: str) -> dict | None:
+    """The last ``RESULT`` line of a worker's stdout, or None."""
+    lines = [ln for ln in stdout.splitlines() if ln.startswith(RESULT)]
+    return json.loads(lines[-1][len(RESULT):]) if lines else None
 
 
 def run_worker(script: str, case: dict, core: str = "0", cache: str | None = None) -> dict:
     """Run ``script --worker CASE`` in a fresh process pinned to ``core`` (one thread);
     ``cache`` is an XDG_CACHE_HOME for cold-JIT runs. Returns its ``RESULT`` line plus
     the whole process time."""
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    env.pop("PETSC_OPTIONS", None)
-    if cache:
-        env["XDG_CACHE_HOME"] = cache
-    cmd = [sys.executable, script, "--worker", json.dumps(case)]
-    if shutil.which("taskset"):
-        cmd = ["taskset", "-c", core, *cmd]
+    env = one_core_env(**({"XDG_CACHE_HOME": cache} if cache else {}))
+    cmd = pinned([sys.executable, script, "--worker", json.dumps(case)], core)
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, cwd=ROOT)
     t_process = time.perf_counter() - t0
-    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]
-    if proc.returncode != 0 or not lines:
+    result = worker_result(proc.stdout)
+    if proc.returncode != 0 or result is None:
         raise RuntimeError(f"case {case} failed:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
-    return {**json.loads(lines[-1][7:]), "t_process": t_process}
+    return {**result, "t_process": t_process}
 
 
 def mpirun_bcfem(args: list[str], ranks: int, quiet_stdout: bool = False) -> None:
@@ -204,3 +251,141 @@ def reference(series, monotone_meshes: int = MONOTONE_MESHES):
     else:
         ref.update(F=F[-1], kind="finest")
     return ref
+
+
+# ----------------------------------------------------------------------------------------
+# provenance
+# ----------------------------------------------------------------------------------------
+def commit(short: bool = True) -> str:
+    """The checkout's HEAD commit ('' outside a git checkout)."""
+    cmd = ["git", "rev-parse", *(["--short"] if short else []), "HEAD"]
+    return subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True).stdout.strip()
+
+
+def git_state() -> str:
+    """The commit of the bcfem that is imported, and its uncommitted library changes (no paths:
+    the docs name no machine's directories)."""
+    import importlib.util
+
+    pkg = Path(importlib.util.find_spec("bcfem").origin).parent
+    try:
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=pkg, capture_output=True,
+                              text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--", "."], cwd=pkg, capture_output=True,
+                               text=True, check=True).stdout.split("\n")
+        dirty = [ln[3:] for ln in dirty if ln.strip()]
+        return f"bcfem @ {head}" + (f" + uncommitted changes in {', '.join(dirty)}" if dirty else "")
+    except (OSError, subprocess.CalledProcessError):
+        stamp = pkg.parent / "SNAPSHOT"  # a `git archive` export records its commit here
+        return f"bcfem ({stamp.read_text().strip() if stamp.exists() else 'not a git checkout'})"
+
+
+def cpu_name() -> str:
+    """The CPU's model name (/proc/cpuinfo; else the platform's)."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def versions() -> dict:
+    """Versions of Python and of the stack a run used (a package that is missing is left out)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"python": platform.python_version()}
+    for name in ("dolfinx-solver-real", "fenics-ufl", "fenics-basix", "fenics-ffcx", "numpy", "scipy", "mpi4py"):
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            pass
+    return out
+
+
+def provenance() -> dict:
+    """Where and when a benchmark ran: bcfem's commit, the versions, the CPU, the UTC date and the
+    load average; a benchmark keeps it in its summary JSON, and its report renders it."""
+    return {"commit": git_state(), "versions": versions(), "cpu": cpu_name(),
+            "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC"), "load": loadavg()}
+
+
+def provenance_note(summary: Mapping) -> str:
+    """A sentence naming the run's provenance (`` Measured on ...``), or '' for a summary that has
+    none (one carried over from a report written before summaries kept it)."""
+    prov = summary.get("provenance")
+    if not prov:
+        return ""
+    stack = ", ".join(f"{k} {v}" for k, v in prov["versions"].items())
+    return (f" Measured on `{prov['cpu']}` on {prov['date']} (load average {prov['load']}), "
+            f"`{prov['commit']}`; {stack}.")
+
+
+# ----------------------------------------------------------------------------------------
+# reports: a template (prose, in benchmarks/templates/) fed by the CSV and the summary
+# ----------------------------------------------------------------------------------------
+class _Fields(string.Template):
+    """``${name}``, ``${name.key}`` (nested summary values) and ``${name:spec}`` (a format spec);
+    a bare ``$`` must be written ``$$``."""
+
+    braceidpattern = r"(?a:[_a-z][_a-z0-9]*(?:\.[_a-z0-9-]+)*(?::[^}]*)?)"
+
+
+class _Lookup(Mapping):
+    def __init__(self, values: Mapping):
+        self.values = values
+
+    def __getitem__(self, field: str) -> str:
+        name, _, spec = field.partition(":")
+        value = self.values
+        for key in name.split("."):
+            value = value[key]
+        return format(value, spec) if spec else str(value)
+
+    def __iter__(self):
+        return iter(self.values)
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+
+def table(rows: Sequence[Mapping], columns: Sequence[tuple[str, str | Callable]]) -> str:
+    """A Markdown table: ``columns`` are (header, how) with ``how`` a format string of the row's
+    fields (``"{cells}"``, ``"{err:.2e}"``) or a function of the row returning its text."""
+    lines = ["| " + " | ".join(h for h, _ in columns) + " |", "|" + "---|" * len(columns)]
+    for r in rows:
+        cells = [how(r) if callable(how) else how.format(**r) for _, how in columns]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def render(template: str | Path, rows: Sequence[Mapping], summary: Mapping, **fields) -> str:
+    """Fill ``template`` (a path, or a name in benchmarks/templates/) with ``summary`` and
+    ``fields`` (tables and derived values, which win); ``rows`` are there as ``${rows}`` (their count)
+    for templates that say how many runs there were. Unknown fields raise KeyError."""
+    path = Path(template)
+    if not path.is_absolute() and not path.exists():
+        path = TEMPLATES / path
+    text = path.read_text()
+    return _Fields(text).substitute(_Lookup({**summary, "rows": len(rows), **fields}))
+
+
+def read_csv(path: Path) -> list[dict]:
+    """The rows of a benchmark's CSV (as :func:`csv_text` wrote them), numbers parsed: an int where
+    the text is one, a float where it parses, else the text ('' stays '')."""
+    def value(text: str):
+        if re.fullmatch(r"[+-]?\d+", text):
+            return int(text)
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+    with open(path, newline="") as f:
+        return [{k: value(v) for k, v in row.items()} for row in csv.DictReader(f)]
+
+
+def write_report(path: Path, text: str) -> None:
+    """Write a rendered report atomically, ending in one newline."""
+    atomic_text(path, text.rstrip("\n") + "\n")

@@ -19,7 +19,10 @@ Usage (from the repository root)::
     .venv/bin/python benchmarks/droplet_soft.py figures   # chapter 5's figures (serial, ~5 min)
     .venv/bin/python benchmarks/droplet_soft.py figures fig5_6cd   # one of them (names: FIGURES)
 
-Writes ``docs/benchmarks/droplet-soft.{csv,md,png}``; ``figures`` writes Figs. 5.4-5.9's
+    .venv/bin/python benchmarks/droplet_soft.py --render-only   # droplet-soft.md from its CSV and JSON
+
+Writes ``docs/benchmarks/droplet-soft.{csv,json,md,png}`` (the report is
+``benchmarks/templates/droplet-soft.md`` filled from the CSV and JSON); ``figures`` writes Figs. 5.4-5.9's
 counterparts and their numbers (``numbers.json``) into ``docs/figures/droplet_soft/``.
 """
 
@@ -33,7 +36,19 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import ROOT, atomic_text, csv_text, fmt, loadavg
+from common import (
+    ROOT,
+    atomic_text,
+    csv_text,
+    fmt,
+    loadavg,
+    provenance,
+    provenance_note,
+    read_csv,
+    render,
+    table,
+    write_report,
+)
 
 OUT = ROOT / "docs" / "benchmarks"
 BIN = Path(sys.executable).parent
@@ -42,7 +57,6 @@ CASES = {"half-space": ["--thickness", "0", "--width", "80"], "layer r0/h=2": ["
 MESHES = {2: [0, 1, 2, 3], 3: [0, 1, 2]}
 COLUMNS = ["case", "degree", "refine", "dofs", "ridge_height", "ridge_height_theory", "error", "t_command_s",
            "t_solve_s"]
-COMMAND = ".venv/bin/python benchmarks/droplet_soft.py"
 
 
 def run(case: str, degree: int, refine: int, ranks: int = 2) -> dict:
@@ -82,25 +96,31 @@ def figure(rows):
     return fig
 
 
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: the template filled with the rows (CSV) and the summary (JSON)."""
+    columns = [("case", "{case}"), ("element", lambda r: f"P{r['degree']}-P{r['degree'] - 1}"),
+               ("refine", "{refine}"), ("dofs", "{dofs}"), ("u_z(r0)/r0", "{ridge_height:.7f}"),
+               ("relative error", lambda r: fmt(r["error"], "+.2e")), ("t_command [s]", "{t_command_s:.1f}"),
+               ("t_solve [s]", "{t_solve_s:.2f}")]
+    return render("droplet-soft.md", rows, summary, table=table(rows, columns), provenance=provenance_note(summary))
+
+
 def main() -> None:
+    if sys.argv[1:2] == ["--render-only"]:
+        write_report(OUT / "droplet-soft.md", report(read_csv(OUT / "droplet-soft.csv"),
+                                                      json.loads((OUT / "droplet-soft.json").read_text())))
+        return
     run("half-space", 2, 0)  # warm the JIT cache
     rows = [run(case, degree, refine) for case in CASES for degree, refines in MESHES.items() for refine in refines]
     OUT.mkdir(parents=True, exist_ok=True)
+    summary = {"load": loadavg(), "provenance": provenance()}
     atomic_text(OUT / "droplet-soft.csv", csv_text(rows, COLUMNS))
-    lines = ["# droplet-soft: ridge-height error against wall time", "",
-             f"`{COMMAND}` (load average at the end: {loadavg()}). Linear model, ν = 1/2, c = 10 "
-             "(γs = γls = 0.2 μ r0), against `bcfem.theory.ridge`; `mpirun -n 2`, warm JIT cache; "
-             "t_command is the whole command (start-up, mesh, solve, output), t_solve the scene's solve.", "",
-             "| case | element | refine | dofs | u_z(r0)/r0 | relative error | t_command [s] | t_solve [s] |",
-             "|---|---|---|---|---|---|---|---|"]
-    for r in rows:
-        lines.append(f"| {r['case']} | P{r['degree']}-P{r['degree'] - 1} | {r['refine']} | {r['dofs']} | "
-                     f"{r['ridge_height']:.7f} | {fmt(r['error'], '+.2e')} | {r['t_command_s']:.1f} | "
-                     f"{r['t_solve_s']:.2f} |")
-    atomic_text(OUT / "droplet-soft.md", "\n".join(lines) + "\n")
+    atomic_text(OUT / "droplet-soft.json", json.dumps(summary, indent=1) + "\n")
+    text = report(rows, summary)
+    write_report(OUT / "droplet-soft.md", text)
     fig = figure(rows)
     fig.savefig(OUT / "droplet-soft.png", dpi=150, bbox_inches="tight")
-    print("\n".join(lines))
+    print(text)
 
 
 if __name__ == "__main__":
