@@ -39,7 +39,19 @@ import math  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker, save_figure  # noqa: E402
+from common import (  # noqa: E402
+    ROOT,
+    atomic_text,
+    count_newton,
+    csv_text,
+    emit,
+    fmt,
+    loadavg,
+    richardson,
+    run_worker,
+    save_figure,
+    worker_prologue,
+)
 
 OUT = ROOT / "docs" / "benchmarks"
 COMMON = {"alpha": 0.5, "adhesion": 2.5}
@@ -64,15 +76,13 @@ COMMAND = ".venv/bin/python benchmarks/blister_edges.py"
 # worker: one solve in a fresh process; prints "RESULT <json>"
 # ----------------------------------------------------------------------------------------
 def worker(case: dict) -> dict:
-    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
-    from bcfem.log import configure
+    worker_prologue()
     from bcfem.path.continuation import ContinuationError
     from bcfem.run.runner import branch_of
     from bcfem.scenes import blister_rigid, blister_studies
 
-    configure(MPI.COMM_WORLD, quiet=True)
     t_import = time.perf_counter() - T_START
     count, _ = count_newton()
     fields, bracket, _ = CASES[case["case"]]
@@ -132,7 +142,7 @@ def main(argv=None):
     global CORE
     CORE = args.core
     if args.worker:
-        print("RESULT " + json.dumps(worker(json.loads(args.worker))), flush=True)
+        emit(worker(json.loads(args.worker)))
         return
 
     from mpi4py import MPI
@@ -242,7 +252,7 @@ def write_outputs(rows, refs, args):
 
 def markdown(rows, refs, args) -> str:
     sys.path.insert(0, str(Path(__file__).parent))
-    from blister_rigid import cpu_name, git_state
+    from common import cpu_name, git_state
 
     L = ["# Benchmark: delamination onset of the adhesive and slippery blister edges", "",
          f"Regenerate with `{COMMAND}` from the repository root (or `make bench`); {args.wall / 60:.0f} min. "

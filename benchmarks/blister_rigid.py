@@ -33,14 +33,29 @@ T_START = time.perf_counter()
 import argparse  # noqa: E402
 import json  # noqa: E402
 import math  # noqa: E402
-import os  # noqa: E402
 import shutil  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from common import ROOT, atomic_text, count_newton, csv_text, fmt, loadavg, richardson, run_worker, save_figure  # noqa: E402
+from common import (  # noqa: E402
+    ROOT,
+    atomic_text,
+    count_newton,
+    cpu_name,
+    csv_text,
+    emit,
+    fmt,
+    git_state,
+    loadavg,
+    one_core_env,
+    pinned,
+    richardson,
+    run_worker,
+    save_figure,
+    worker_prologue,
+)
 
 OUT = ROOT / "docs" / "benchmarks"
 GRID = [0.25 * k for k in range(1, 25)]  # V/V0 = 0.25, 0.5, ..., 6
@@ -58,9 +73,9 @@ COMMAND = ".venv/bin/python benchmarks/blister_rigid.py"
 # ----------------------------------------------------------------------------------------
 def worker(case: dict) -> dict:
     t0 = time.perf_counter()
-    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
+    worker_prologue()
     from bcfem.params import ContinuationParams
     from bcfem.path.volume_control import VolumeControl
     from bcfem.run.runner import trace
@@ -166,7 +181,7 @@ def main(argv=None):
     CELLS[:] = sorted(args.cells)
     REF_CELLS[:] = CELLS[-2:]
     if args.worker:
-        print("RESULT " + json.dumps(worker(json.loads(args.worker))), flush=True)
+        emit(worker(json.loads(args.worker)))
         return
 
     from mpi4py import MPI
@@ -271,10 +286,8 @@ def import_breakdown() -> dict:
     code = ("import time; t0 = time.perf_counter(); import dolfinx_solver, dolfinx, dolfinx.fem.petsc, ufl, basix.ufl; "
             "t1 = time.perf_counter(); import scipy.optimize; t2 = time.perf_counter(); import bcfem; "
             "t3 = time.perf_counter(); print(t1 - t0, t2 - t1, t3 - t2)")
-    cmd = [sys.executable, "-c", code]
-    cmd = ["taskset", "-c", "0", *cmd] if shutil.which("taskset") else cmd
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    runs = [list(map(float, subprocess.run(cmd, env=env, capture_output=True, text=True, check=True,
+    cmd = pinned([sys.executable, "-c", code])
+    runs = [list(map(float, subprocess.run(cmd, env=one_core_env(), capture_output=True, text=True, check=True,
                                            cwd=tempfile.gettempdir()).stdout.split())) for _ in range(3)]
     best = [min(r[i] for r in runs) for i in range(3)]
     return {"dolfinx/petsc4py/ufl/basix": best[0], "scipy.optimize": best[1], "rest of bcfem": best[2]}
@@ -459,34 +472,6 @@ def markdown(rows, ref, args) -> str:
     L += ["", "The step size changes the number of steps, not the accuracy: the located folds agree to the "
           "solver floor for every ds_max.", ""]
     return "\n".join(L) + "\n"
-
-
-def git_state() -> str:
-    """The commit of the bcfem that is imported, and its uncommitted library changes (no paths:
-    the docs name no machine's directories)."""
-    import importlib.util
-
-    pkg = Path(importlib.util.find_spec("bcfem").origin).parent
-    try:
-        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=pkg, capture_output=True,
-                              text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--", "."], cwd=pkg, capture_output=True,
-                               text=True, check=True).stdout.split("\n")
-        dirty = [ln[3:] for ln in dirty if ln.strip()]
-        return f"bcfem @ {head}" + (f" + uncommitted changes in {', '.join(dirty)}" if dirty else "")
-    except (OSError, subprocess.CalledProcessError):
-        stamp = pkg.parent / "SNAPSHOT"  # a `git archive` export records its commit here
-        return f"bcfem ({stamp.read_text().strip() if stamp.exists() else 'not a git checkout'})"
-
-
-def cpu_name() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown CPU"
 
 
 if __name__ == "__main__":

@@ -258,18 +258,17 @@ class Machine:
     bytecode), bcfem from this checkout."""
 
     def __init__(self, tmp: Path):
-        import shutil
+        from common import one_core_env, pinned
 
         self.tmp = tmp
-        env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1",
-                   PYTHONPYCACHEPREFIX=str(tmp / "pycache"))
-        for key in ("PETSC_OPTIONS", "PYTHONDONTWRITEBYTECODE", "PYTHONPATH"):
+        env = one_core_env(PYTHONPYCACHEPREFIX=str(tmp / "pycache"))
+        for key in ("PYTHONDONTWRITEBYTECODE", "PYTHONPATH"):
             env.pop(key, None)
         self.shoot_env = dict(env, PYTHONPATH=str(HERE))
         self.bcfem_env = dict(env, PYTHONPATH=str(ROOT))
         self.phases_env = dict(env, PYTHONPATH=os.pathsep.join([str(ROOT), str(HERE)]))
         self.bcfem = Path(sys.executable).with_name("bcfem")
-        self.pin = ["taskset", "-c", "0"] if shutil.which("taskset") else []
+        self.pin = pinned([])
         self.count = 0
 
     def run(self, cmd: list[str], env: dict, check: bool = True) -> dict:
@@ -325,10 +324,12 @@ class Machine:
 
 
 def result_line(stdout: str) -> dict:
-    lines = [ln for ln in stdout.splitlines() if ln.startswith("RESULT ")]
-    if not lines:
+    from common import worker_result
+
+    result = worker_result(stdout)
+    if result is None:
         raise RuntimeError(f"no RESULT line in:\n{stdout[-2000:]}")
-    return json.loads(lines[-1][7:])
+    return result
 
 
 # ----------------------------------------------------------------------------------------
@@ -894,8 +895,7 @@ def main(argv=None):
     sys.path.insert(0, str(HERE))
     import numpy
     import scipy
-    from blister_rigid import cpu_name, git_state
-    from common import atomic_text, csv_text, richardson
+    from common import atomic_text, cpu_name, csv_text, git_state, richardson
 
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
     load_start = loadavg_now()

@@ -56,13 +56,18 @@ from common import (  # noqa: E402
     busy_cores,
     count_newton,
     csv_text,
+    emit,
     fmt,
     kept_sections,
     loadavg,
     observed_order,
+    one_core_env,
+    pinned,
     reference,
     save_figure,
     wait_idle,
+    worker_prologue,
+    worker_result,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -87,14 +92,12 @@ TIMEOUT = 180.0  # [s] a one-core run is killed after this (normal runs take 1-6
 # worker: one cycle in a fresh process; prints "RESULT <json>"
 # ----------------------------------------------------------------------------------------
 def worker(case: dict) -> dict:
-    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
+    worker_prologue()
     import bcfem
-    from bcfem.log import configure
     from bcfem.scenes import crater
 
-    configure(MPI.COMM_WORLD, quiet=True)
     if case.get("petsc"):  # user options win over bcfem's (bcfem.solver.options.merge)
         from petsc4py import PETSc
 
@@ -134,23 +137,19 @@ def log(msg: str) -> None:
 def run_case(case: dict) -> dict:
     """``common.run_worker`` with a time limit: a run that has not finished after ``TIMEOUT``
     seconds is killed and recorded as ``status = "timeout"``."""
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    env.pop("PETSC_OPTIONS", None)
-    cmd = [sys.executable, __file__, "--worker", json.dumps(case)]
-    if shutil.which("taskset"):
-        cmd = ["taskset", "-c", CORE, *cmd]
+    cmd = pinned([sys.executable, __file__, "--worker", json.dumps(case)], CORE)
     t0 = time.perf_counter()
     try:
-        proc = subprocess.run(cmd, env=env, capture_output=True, text=True, cwd=ROOT, timeout=TIMEOUT)
+        proc = subprocess.run(cmd, env=one_core_env(), capture_output=True, text=True, cwd=ROOT, timeout=TIMEOUT)
     except subprocess.TimeoutExpired:
         t = time.perf_counter() - t0
         return {**case, "status": "timeout", "reason": f"killed after {TIMEOUT:g} s without a result",
                 "t_solve": t, "c_solve": math.nan, "t_process": t, "t_import": math.nan, "its": None}
     t_process = time.perf_counter() - t0
-    lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")]
-    if proc.returncode != 0 or not lines:
+    result = worker_result(proc.stdout)
+    if proc.returncode != 0 or result is None:
         raise RuntimeError(f"case {case} failed:\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}")
-    return {**json.loads(lines[-1][7:]), "t_process": t_process}
+    return {**result, "t_process": t_process}
 
 
 def timed(case: dict, repeats: int) -> dict:
@@ -177,9 +176,7 @@ def mpi_cycle(size: float, repeats: int) -> dict:
         out = Path(tempfile.mkdtemp(prefix="bcfem-crater-bench-"))
         cmd = ["/usr/bin/time", "-f", "TIME %e %U %S", str(BIN / "mpirun"), "-n", "2", str(BIN / "bcfem"), "run",
                "crater", "--preload", str(MPI_EPS), "--size-crater", str(size), "--quiet", "--out", str(out)]
-        env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
-                   PATH=f"{BIN}:{os.environ.get('PATH', '')}")
-        env.pop("PETSC_OPTIONS", None)
+        env = one_core_env(PATH=f"{BIN}:{os.environ.get('PATH', '')}")
         proc = subprocess.run(cmd, env=env, capture_output=True, text=True, cwd=ROOT)
         line = [ln for ln in proc.stderr.splitlines() if ln.startswith("TIME ")]
         run = {"status": "ok" if proc.returncode == 0 else "failed", "reason": "",
@@ -253,7 +250,7 @@ def main(argv=None):
     global CORE
     CORE = args.core
     if args.worker:
-        print("RESULT " + json.dumps(worker(json.loads(args.worker))), flush=True)
+        emit(worker(json.loads(args.worker)))
         return
 
     from mpi4py import MPI
@@ -261,7 +258,7 @@ def main(argv=None):
     if MPI.COMM_WORLD.size > 1:
         sys.exit("the benchmark drives its own processes: run it without mpirun")
     sys.path.insert(0, str(Path(__file__).parent))
-    from blister_rigid import git_state
+    from common import git_state
 
     args.sizes = sorted(args.sizes, reverse=True)  # coarse to fine
     args.load = [loadavg()]
@@ -446,7 +443,7 @@ def events_text(r) -> str:
 
 
 def markdown(rows, refs, mpi, args) -> str:
-    from blister_rigid import cpu_name
+    from common import cpu_name
 
     opts = "".join([f" --repeats {args.repeats}" if args.repeats != 2 else "",
                     f" --core {args.core}" if args.core != "0" else "",

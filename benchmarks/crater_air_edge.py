@@ -30,7 +30,17 @@ import time
 from mpi4py import MPI
 
 import numpy as np
-from common import MONOTONE_MESHES, ROOT, atomic_text, csv_text, fmt, observed_order, put_section, reference
+from common import (
+    MONOTONE_MESHES,
+    ROOT,
+    atomic_text,
+    commit,
+    csv_text,
+    fmt,
+    observed_order,
+    put_section,
+    reference,
+)
 
 import bcfem  # noqa: F401
 from bcfem.geometry.crater import create_mesh
@@ -130,13 +140,12 @@ def convergence(series, key):
 
 
 def section(rows) -> str:
-    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                            cwd=ROOT).stdout.strip()
+    head = commit()
     dirty = subprocess.run(["git", "status", "--porcelain", "bcfem"], capture_output=True, text=True,
                            cwd=ROOT).stdout.strip()
     out = ["## The contact radius A2 and the far-field mesh at eps = 0.2", "",
            f"Regenerate with `{COMMAND}` (one process, warm JIT cache, times of `crater.solve`, not pinned, on a shared machine (load average about 3): indicative only; "
-           f"bcfem @ {commit}{' with uncommitted changes in bcfem/' if dirty else ''}); it writes "
+           f"bcfem @ {head}{' with uncommitted changes in bcfem/' if dirty else ''}); it writes "
            "`crater-air-edge.csv` and this section.", "",
            "A2 = pi r_edge^2, where the crater wall leaves the plate. `F~` takes r_edge inside its element "
            "(`bcfem/contact/plate_edge.py`: g^(2/3) of the first three wall nodes off the plate, a quadratic in the arc "

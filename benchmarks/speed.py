@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import random
 import re
 import shutil
@@ -36,7 +35,19 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import ROOT, atomic_text, busy_cores, csv_text, loadavg, save_figure
+from common import (
+    ROOT,
+    atomic_text,
+    busy_cores,
+    commit,
+    cpu_name,
+    csv_text,
+    loadavg,
+    one_core_env,
+    pinned,
+    save_figure,
+    worker_result,
+)
 
 #: the default commit to compare with (``--before``)
 BEFORE = "14f700f"
@@ -62,14 +73,7 @@ SPLIT = ("assembly", "discrete_terms", "factorisation", "linear_solve", "newton_
 
 
 def environment() -> dict:
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1",
-               XDG_CACHE_HOME=str(JIT_CACHE))
-    env.pop("PETSC_OPTIONS", None)
-    return env
-
-
-def pinned(cmd: list[str]) -> list[str]:
-    return ["taskset", "-c", "0", *cmd] if shutil.which("taskset") else cmd
+    return one_core_env(XDG_CACHE_HOME=str(JIT_CACHE))
 
 
 def run_case(code: Path, case: str, out: Path, log_view: Path | None = None) -> dict:
@@ -106,8 +110,7 @@ def shooting() -> dict:
     proc = subprocess.run(cmd, env=environment(), cwd=ROOT / "benchmarks", capture_output=True, text=True,
                           check=True)
     process = time.perf_counter() - t0
-    line = next(ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT "))
-    return {"process": process, "result": json.loads(line[7:])["P_max"]}
+    return {"process": process, "result": worker_result(proc.stdout)["P_max"]}
 
 
 def counts(log: Path) -> dict:
@@ -264,12 +267,10 @@ def main(argv=None) -> None:
         rows, info = measure(before, args.repeats, args.cases)
     finally:
         subprocess.run(["git", "worktree", "remove", "--force", str(before)], cwd=ROOT, capture_output=True)
-    head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
-                          text=True).stdout.strip()
+    head = commit()
     atomic_text(OUT / "speed.csv", csv_text(rows, COLUMNS))
     figure(rows, OUT / "speed.png")
-    cpu = next((ln.split(":", 1)[1].strip() for ln in Path("/proc/cpuinfo").read_text().splitlines()
-                if ln.startswith("model name")), platform.processor()) if Path("/proc/cpuinfo").exists() else "?"
+    cpu = cpu_name()
     L = ["# Benchmark: the solver at two commits", "",
          f"Regenerate with `.venv/bin/python benchmarks/speed.py --repeats {args.repeats}` (part of `make bench`). "
          f"Measured on `{cpu}` ({os.cpu_count()} cores; {busy:.2f} cores busy with other work at the start, "
