@@ -21,7 +21,10 @@ Usage (from the repository root)::
     .venv/bin/python benchmarks/blister_rigid.py              # full run, ~10 min
     .venv/bin/python benchmarks/blister_rigid.py --repeats 1  # quicker timings
 
-Writes ``docs/benchmarks/blister-rigid.{csv,md,png}`` (atomically, rank 0).
+    .venv/bin/python benchmarks/blister_rigid.py --render-only   # the .md again from CSV + JSON
+
+Writes ``docs/benchmarks/blister-rigid.{csv,json,md,png}`` (atomically, rank 0); the report is
+``benchmarks/templates/blister-rigid.md`` filled from the CSV and the JSON.
 """
 
 from __future__ import annotations
@@ -51,10 +54,16 @@ from common import (  # noqa: E402
     loadavg,
     one_core_env,
     pinned,
+    provenance,
+    provenance_note,
+    read_csv,
+    render,
     richardson,
     run_worker,
     save_figure,
+    table,
     worker_prologue,
+    write_report,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -176,8 +185,14 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=3, help="warm runs per case (the best time is kept)")
     ap.add_argument("--cells", type=int, nargs="+", default=CELLS_DEFAULT,
                     help="meshes (cells across R0); the two finest P2 ones give the reference")
+    ap.add_argument("--render-only", action="store_true",
+                    help="render blister-rigid.md again from the blister-rigid.csv and .json that are there")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.render_only:
+        write_report(OUT / "blister-rigid.md", report(read_csv(OUT / "blister-rigid.csv"),
+                                                       json.loads((OUT / "blister-rigid.json").read_text())))
+        return
     CELLS[:] = sorted(args.cells)
     REF_CELLS[:] = CELLS[-2:]
     if args.worker:
@@ -335,143 +350,103 @@ def write_outputs(rows, ref, args):
     ax.legend(fontsize=6.5, loc="upper right")
     fig.tight_layout()
     save_figure(fig, OUT / "blister-rigid.png")
-    atomic_text(OUT / "blister-rigid.md", markdown(rows, ref, args))
+    summary = {"ref": {k: v for k, v in ref.items() if k != "grid"}, "repeats": args.repeats, "cells": CELLS,
+               "load": list(args.load), "cpu": cpu_name(), "bcfem": git_state(), "provenance": provenance()}
+    atomic_text(OUT / "blister-rigid.json", json.dumps(summary, indent=1) + "\n")
+    write_report(OUT / "blister-rigid.md", report(rows, summary))
 
 
-def markdown(rows, ref, args) -> str:
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: benchmarks/templates/blister-rigid.md filled from the rows (CSV) and
+    the summary (JSON: the reference, the run's settings and its provenance)."""
+    ref, repeats, cells = summary["ref"], summary["repeats"], summary["cells"]
     conv = [r for r in rows if r["study"] == "convergence"]
-    L = ["# Benchmark: clamped Gent blister (Jm = 100, alpha = 0)", "",
-         f"Regenerate with `{COMMAND}{'' if args.repeats == 3 else f' --repeats {args.repeats}'}"
-         f"{'' if args.cells == CELLS_DEFAULT else ' --cells ' + ' '.join(map(str, args.cells))}` from the "
-         "repository root (`make bench` runs it with the default 3 repeats); "
-         f"timings are the best of {args.repeats} warm runs (up to {2 * args.repeats} when even the best one "
-         "waited for other jobs, CSV column `runs`), each in a fresh process pinned "
-         "to one core (`taskset -c 0`, `OMP_NUM_THREADS=1`); `cpu` is the process CPU time of the same "
-         "solve, a check on wall times disturbed by other load on the machine "
-         f"(load average {args.load[0]} at the start, {args.load[1]} at the end). Measured on "
-         f"`{cpu_name()}`, bcfem from `{git_state()}`.", "",
-         "## What is measured", "",
-         f"* **limit point**: `trace()` to V/V0 = {LP_VMAX}; the fold (max of P) is located by Brent on "
-         "dP/ds = 0. Error: |P_max - P_max,ref| / P_max,ref.",
-         "* **branch**: `trace()` to V/V0 = 6 (both folds located), then volume control at "
-         "V/V0 = 0.25, 0.5, ..., 6 (24 points) on the same mesh. Error: max over the grid of |P - P_ref| / P_ref. "
-         "This is the discretisation error of the discrete branch that the trace follows "
-         "(its rows lie on it, at arc-length steps rather than on the grid).",
-         "* **time**: `t_limit`, `t_branch` = wall time of `Params()` + `build()` + `trace()` (mesh, form "
-         "loading, every Newton and tangent solve, fold location); `t_grid` = the 24 volume-control solves "
-         "after it; `t_*_process` = the whole subprocess including interpreter start and `import bcfem` "
-         "(dolfinx, petsc4py, ufl, scipy), which alone costs `t_import`.",
-         "* Step control: the scene default `ContinuationParams(ds_max=0.1)` unless stated.", "",
-         "## Reference", "",
-         f"Richardson extrapolation of P2 on {REF_CELLS[0]} and {REF_CELLS[1]} cells with order p = {ORDER} "
-         "(P is an energy-like functional: error O(h^2k), k = 2):", "",
-         f"* P_max,ref = {ref['P_max']:.15f} at V/V0 = {ref['V_max']:.10f}",
-         f"* P_min,ref = {ref['P_min']:.15f}",
-         "* observed order of P_max from P2 self-convergence (cells n, 2n, 4n; no reference involved): "
-         + ", ".join(f"{n}: {o:.2f}" for n, o in zip(CELLS, ref["observed"])),
-         f"* the Richardson correction to P2/{REF_CELLS[1]} is {ref['corr_max']:.1e} (relative). Richardson on "
-         f"the next-coarser pair ({CELLS[-3]}, {REF_CELLS[0]}) differs from the reference by "
-         f"{ref['floor_max']:.1e} at the fold and by up to {ref['floor_grid']:.1e} on the grid: that is the "
-         "reference's uncertainty from the extrapolation. The solver adds its own: a grid point reached by "
-         "volume control from the point above and from the point below differs by up to "
-         f"{ref['noise_grid']:.1e} (Newton stops at `snes_rtol` = 1e-10 of the *initial* residual, so the "
-         "last digits depend on the starting guess). Errors at that level are not resolved and the rates "
-         f"flatten there; P2/{REF_CELLS[1]} is part of the reference and has no error entry.", "",
-         "## Mesh convergence (warm JIT cache, one core)", "",
-         "| deg | cells | dofs | err limit P | rate | t_limit [s] | cpu | process [s] | err grid P | rate "
-         "| err P_min | t_branch [s] | cpu | t_grid [s] | process [s] | steps | Newton its (solves) |",
-         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in conv:
-        prev = next((q for q in conv if q["degree"] == r["degree"] and q["cells"] * 2 == r["cells"]), None)
-        rate = lambda k: (fmt(math.log2(prev[k] / r[k]), ".2f")  # noqa: E731
-                          if prev and r[k] > 0 and prev[k] > 0 and not math.isnan(r[k]) else "")
-        L.append(f"| P{r['degree']} | {r['cells']} | {r['dofs']} | {fmt(r['err_limit']) or 'ref'} "
-                 f"| {rate('err_limit')} | {r['t_limit']:.3f} | {r['cpu_limit']:.3f} | {r['t_limit_process']:.2f} "
-                 f"| {fmt(r['err_grid']) or 'ref'} | {rate('err_grid')} | {fmt(r['err_min']) or 'ref'} "
-                 f"| {r['t_branch']:.3f} | {r['cpu_branch']:.3f} "
-                 f"| {r['t_grid']:.3f} | {r['t_branch_process']:.2f} "
-                 f"| {r['steps_branch']} | {r['its_branch']} ({r['solves_branch']}) |")
-    floor = max(ref["floor_max"], ref["noise_grid"])
-    spreads = sorted(r["spread"] for r in conv)
-    L += ["", "Rates are log2 of successive error ratios (expected 2 for P1, 4 for P2) until the errors reach "
-          f"the reference/solver floor of ~{floor:.0e} (see Reference). Timing noise: the slowest of the "
-          f"{args.repeats} runs of a case was {100 * spreads[len(spreads) // 2]:.0f}% slower than the best in the "
-          f"median case and {100 * spreads[-1]:.0f}% in the worst (other jobs shared the machine). "
-          "Newton its counts every SNES iteration of the run (accepted steps, retries, and the Brent solves "
-          "of fold and end point location); `Branch.newton_iterations` counts only "
-          "the accepted steps.", ""]
 
-    # -- targets
+    def rate(r, k):
+        prev = next((q for q in conv if q["degree"] == r["degree"] and q["cells"] * 2 == r["cells"]), None)
+        return fmt(math.log2(prev[k] / r[k]), ".2f") if prev and r[k] > 0 and prev[k] > 0 and not math.isnan(r[k]) else ""
+
+    convergence = table(conv, [
+        ("deg", "P{degree}"), ("cells", "{cells}"), ("dofs", "{dofs}"),
+        ("err limit P", lambda r: fmt(r["err_limit"]) or "ref"), ("rate", lambda r: rate(r, "err_limit")),
+        ("t_limit [s]", "{t_limit:.3f}"), ("cpu", "{cpu_limit:.3f}"), ("process [s]", "{t_limit_process:.2f}"),
+        ("err grid P", lambda r: fmt(r["err_grid"]) or "ref"), ("rate", lambda r: rate(r, "err_grid")),
+        ("err P_min", lambda r: fmt(r["err_min"]) or "ref"), ("t_branch [s]", "{t_branch:.3f}"),
+        ("cpu", "{cpu_branch:.3f}"), ("t_grid [s]", "{t_grid:.3f}"), ("process [s]", "{t_branch_process:.2f}"),
+        ("steps", "{steps_branch}"), ("Newton its (solves)", "{its_branch} ({solves_branch})")])
+    spreads = sorted(r["spread"] for r in conv)
+
+    # targets: the fastest run of each degree below the tolerance, and whether it met the time budget
     lim_ok, br_ok = best(conv, "err_limit", "t_limit", 1e-8), best(conv, "err_grid", "t_branch", 1e-6)
-    L += ["## Targets", ""]
+    targets = []
     for title, ok, err, t, tol, budget in [
             ("limit-point pressure to 1e-8 relative in under 1 s", lim_ok, "err_limit", "t_limit", 1e-8, 1.0),
             ("whole Gent Jm=100 branch to V/V0 = 6 with P accurate to 1e-6 relative in under 3 s",
              br_ok, "err_grid", "t_branch", 1e-6, 3.0)]:
-        L.append(f"**{title}** (one core, warm cache):")
-        L.append("")
+        targets += [f"**{title}** (one core, warm cache):", ""]
         for degree in DEGREES:
             r = ok.get(degree)
             if r is None:
-                L.append(f"* P{degree}: no mesh reaches {tol:g}.")
+                targets.append(f"* P{degree}: no mesh reaches {tol:g}.")
                 continue
             proc, cpu = r[t + "_process"], r["cpu_" + t[2:]]
             note = (f"; its CPU time was {cpu:.3f} s: the wall time waited for other jobs" if r[t] > 1.2 * cpu
                     else "")
-            L.append(f"* P{degree}: fastest run below {tol:g} is {r['cells']} cells, error {r[err]:.1e}, "
-                     f"solve {r[t]:.3f} s ({'met' if r[t] < budget else 'NOT met'}{note}), whole process "
-                     f"{proc:.2f} s ({'met' if proc < budget else 'NOT met'} if interpreter start and imports count).")
-        L.append("")
+            targets.append(f"* P{degree}: fastest run below {tol:g} is {r['cells']} cells, error {r[err]:.1e}, "
+                           f"solve {r[t]:.3f} s ({'met' if r[t] < budget else 'NOT met'}{note}), whole process "
+                           f"{proc:.2f} s ({'met' if proc < budget else 'NOT met'} if interpreter start and imports "
+                           "count).")
+        targets.append("")
     lp2, br2 = lim_ok.get(2), br_ok.get(2)
-    if lp2 and br2:
-        met = lambda t, budget: "met" if t < budget else "NOT met"  # noqa: E731
-        L += [f"Verdict: counting build + solve, the limit-point target is {met(lp2['t_limit'], 1.0)} "
-              f"({lp2['t_limit']:.2f} s) and the branch target is {met(br2['t_branch'], 3.0)} "
-              f"({br2['t_branch']:.2f} s), both with P2. Counting the whole process (interpreter start and "
-              f"imports too), they are {met(lp2['t_limit_process'], 1.0)} ({lp2['t_limit_process']:.2f} s, of "
-              f"which {lp2['t_import']:.2f} s is imports) and {met(br2['t_branch_process'], 3.0)} "
-              f"({br2['t_branch_process']:.2f} s).", ""]
-    else:
-        L += ["Verdict: at least one target is NOT met by any P2 mesh of this run (see above).", ""]
+    met = lambda t, budget: "met" if t < budget else "NOT met"  # noqa: E731
+    verdict = (f"Verdict: counting build + solve, the limit-point target is {met(lp2['t_limit'], 1.0)} "
+               f"({lp2['t_limit']:.2f} s) and the branch target is {met(br2['t_branch'], 3.0)} "
+               f"({br2['t_branch']:.2f} s), both with P2. Counting the whole process (interpreter start and "
+               f"imports too), they are {met(lp2['t_limit_process'], 1.0)} ({lp2['t_limit_process']:.2f} s, of "
+               f"which {lp2['t_import']:.2f} s is imports) and {met(br2['t_branch_process'], 3.0)} "
+               f"({br2['t_branch_process']:.2f} s).") if lp2 and br2 else \
+        "Verdict: at least one target is NOT met by any P2 mesh of this run (see above)."
     scipy_cost = ref["imports"]["scipy.optimize"]
-    L += ["Where the import goes (best of 3 fresh interpreters, one core): "
-          + ", ".join(f"{k} {v:.2f} s" for k, v in ref["imports"].items())
-          + ". `bcfem.path.continuation` imports `scipy.optimize` at module level for `brentq` alone; a lazy "
-          f"import (or a small Brent in bcfem) would take ~{scipy_cost:.2f} s off every run"
-          + (f", e.g. the limit-point process above to ~{lp2['t_limit_process'] - scipy_cost:.2f} s." if lp2 else ".")
-          + " It is not done here: the benchmark measures the library as it is.", ""]
-    # -- cold
-    L += ["## Cold JIT cache", "",
-          "Fresh, empty `XDG_CACHE_HOME` (dolfinx's default cache is `$XDG_CACHE_HOME/fenics`, else "
-          "`~/.cache/fenics`); every form and expression is compiled by FFCx + the C compiler.", "",
-          "| deg | cells | run | solve [s] | process [s] | compiled modules | warm solve [s] |",
-          "|---|---|---|---|---|---|---|"]
-    for r in (q for q in rows if q["study"] == "cold"):
-        mode = "limit" if r.get("t_limit") is not None else "branch"
-        warm = next((q for q in conv if q["degree"] == r["degree"] and q["cells"] == r["cells"]), None)
-        L.append(f"| P{r['degree']} | {r['cells']} | {mode} | {r['t_' + mode]:.2f} | {r['t_' + mode + '_process']:.2f} "
-                 f"| {r['compiled_modules']} | {fmt(warm and warm['t_' + mode], '.3f')} |")
-    cold_rows = [q for q in rows if q["study"] == "cold"]
-    if cold_rows:
-        worst = max(q.get("t_limit") or q.get("t_branch") for q in cold_rows)
-        best_ = min(q.get("t_limit") or q.get("t_branch") for q in cold_rows)
-        L += ["", f"With a cold cache the solve takes {best_:.1f}-{worst:.1f} s, almost all of it JIT "
-              "compilation, so neither time target holds for a first run on a machine; the cost is paid once "
-              "per form (it does not depend on the mesh). The branch run's process time also includes "
-              "the volume-control problem's forms.", ""]
 
-    # -- ds_max
-    L += ["## Step size (`ContinuationParams.ds_max`), P2, warm", "",
-          "`ds` = min(0.05, ds_max); the scene default is ds_max = 0.1, the library default 0.5.", "",
-          "| cells | ds_max | t_limit [s] | steps / its (limit) | t_branch [s] | steps / its (branch) | failed steps "
-          "| err limit P | err P_min |", "|---|---|---|---|---|---|---|---|---|"]
-    for r in (q for q in rows if q["study"] == "ds_max"):
-        L.append(f"| {r['cells']} | {r['ds_max']:g} | {r['t_limit']:.3f} | {r['steps_limit']} / {r['its_limit']} "
-                 f"| {r['t_branch']:.3f} | {r['steps_branch']} / {r['its_branch']} | {r['failed_branch']} "
-                 f"| {fmt(r['err_limit'])} | {fmt(r['err_min'])} |")
-    L += ["", "The step size changes the number of steps, not the accuracy: the located folds agree to the "
-          "solver floor for every ds_max.", ""]
-    return "\n".join(L) + "\n"
+    cold_rows = [q for q in rows if q["study"] == "cold"]
+
+    def mode(r):
+        return "limit" if r.get("t_limit") is not None else "branch"
+
+    def warm(r):
+        w = next((q for q in conv if q["degree"] == r["degree"] and q["cells"] == r["cells"]), None)
+        return fmt(w and w["t_" + mode(r)], ".3f")
+
+    cold = table(cold_rows, [
+        ("deg", "P{degree}"), ("cells", "{cells}"), ("run", mode), ("solve [s]", lambda r: f"{r['t_' + mode(r)]:.2f}"),
+        ("process [s]", lambda r: f"{r['t_' + mode(r) + '_process']:.2f}"), ("compiled modules", "{compiled_modules}"),
+        ("warm solve [s]", warm)])
+    cold_note = ""
+    if cold_rows:
+        solves = [q.get("t_limit") or q.get("t_branch") for q in cold_rows]
+        cold_note = (f"\nWith a cold cache the solve takes {min(solves):.1f}-{max(solves):.1f} s, almost all of it JIT "
+                     "compilation, so neither time target holds for a first run on a machine; the cost is paid once "
+                     "per form (it does not depend on the mesh). The branch run's process time also includes "
+                     "the volume-control problem's forms.\n")
+    ds_max = table([q for q in rows if q["study"] == "ds_max"], [
+        ("cells", "{cells}"), ("ds_max", "{ds_max:g}"), ("t_limit [s]", "{t_limit:.3f}"),
+        ("steps / its (limit)", "{steps_limit} / {its_limit}"), ("t_branch [s]", "{t_branch:.3f}"),
+        ("steps / its (branch)", "{steps_branch} / {its_branch}"), ("failed steps", "{failed_branch}"),
+        ("err limit P", lambda r: fmt(r["err_limit"])), ("err P_min", lambda r: fmt(r["err_min"]))])
+
+    command = (f"{COMMAND}{'' if repeats == 3 else f' --repeats {repeats}'}"
+               f"{'' if cells == CELLS_DEFAULT else ' --cells ' + ' '.join(map(str, cells))}")
+    return render("blister-rigid.md", rows, summary, command=command, repeats_max=2 * repeats,
+                  load_start=summary["load"][0], load_end=summary["load"][1], provenance=provenance_note(summary),
+                  lp_vmax=LP_VMAX, ref_coarse=cells[-2], ref_fine=cells[-1], next_coarse=cells[-3], order=ORDER,
+                  observed=", ".join(f"{n}: {o:.2f}" for n, o in zip(cells, ref["observed"])),
+                  convergence=convergence, floor=max(ref["floor_max"], ref["noise_grid"]),
+                  spread_median=100 * spreads[len(spreads) // 2], spread_worst=100 * spreads[-1],
+                  targets="\n".join(targets).rstrip("\n"), verdict=verdict,
+                  imports=", ".join(f"{k} {v:.2f} s" for k, v in ref["imports"].items()), scipy_cost=scipy_cost,
+                  scipy_example=(f", e.g. the limit-point process above to ~{lp2['t_limit_process'] - scipy_cost:.2f} s"
+                                 if lp2 else ""),
+                  cold=cold, cold_note=cold_note, ds_max=ds_max)
 
 
 if __name__ == "__main__":

@@ -373,8 +373,10 @@ def render(template: str | Path, rows: Sequence[Mapping], summary: Mapping, **fi
 
 def read_csv(path: Path) -> list[dict]:
     """The rows of a benchmark's CSV (as :func:`csv_text` wrote them), numbers parsed: an int where
-    the text is one, a float where it parses, else the text ('' stays '')."""
+    the text is one, a float where it parses, None for an empty cell, else the text."""
     def value(text: str):
+        if text == "":
+            return None
         if re.fullmatch(r"[+-]?\d+", text):
             return int(text)
         try:
