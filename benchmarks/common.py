@@ -373,10 +373,13 @@ def render(template: str | Path, rows: Sequence[Mapping], summary: Mapping, **fi
 
 def read_csv(path: Path) -> list[dict]:
     """The rows of a benchmark's CSV (as :func:`csv_text` wrote them), numbers parsed: an int where
-    the text is one, a float where it parses, None for an empty cell, else the text."""
+    the text is one, a float where it parses, a bool for True/False, None for an empty cell, else
+    the text."""
     def value(text: str):
         if text == "":
             return None
+        if text in ("True", "False"):
+            return text == "True"
         if re.fullmatch(r"[+-]?\d+", text):
             return int(text)
         try:

@@ -48,6 +48,7 @@ import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 from pathlib import Path  # noqa: E402
+from types import SimpleNamespace  # noqa: E402
 
 from common import (  # noqa: E402
     MONOTONE_MESHES,
@@ -55,19 +56,25 @@ from common import (  # noqa: E402
     atomic_text,
     busy_cores,
     count_newton,
+    cpu_name,
     csv_text,
     emit,
     fmt,
+    git_state,
     kept_sections,
     loadavg,
     observed_order,
     one_core_env,
     pinned,
+    provenance,
+    provenance_note,
+    read_csv,
     reference,
     save_figure,
     wait_idle,
     worker_prologue,
     worker_result,
+    write_report,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -235,6 +242,19 @@ def self_convergence(series, key):
             "order3": observed_order(h[-3:], q[-3:]) if len(q) >= 3 else None}
 
 
+def references(rows, preloads) -> dict:
+    """Per preload of the mesh study: the reference F~ (:func:`common.reference`) of its successful
+    meshes and their self-convergence (``conv``)."""
+    refs = {}
+    for eps in preloads:
+        series = [r for r in rows if r["study"] == "mesh" and r["eps"] == eps and r["status"] == "ok"]
+        if series:
+            refs[eps] = reference(series)
+            refs[eps]["conv"] = {k: self_convergence(series, k) for k in ("F_tilde", "V2_over_V0", "p2_over_pa",
+                                                                           "A2_over_A0")}
+    return refs
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeats", type=int, default=2, help="runs per case (the best time is kept)")
@@ -245,8 +265,14 @@ def main(argv=None):
                     help="preloads of the regulariser study (none: skip it)")
     ap.add_argument("--idle-wait", type=float, default=600.0,
                     help="seconds to wait for an idle machine before each 2-rank timing")
+    ap.add_argument("--render-only", action="store_true",
+                    help="render crater-air.md again from the crater-air.csv and .json that are there")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.render_only:
+        write_report(OUT / "crater-air.md", report(read_csv(OUT / "crater-air.csv"),
+                                                    json.loads((OUT / "crater-air.json").read_text())))
+        return
     global CORE
     CORE = args.core
     if args.worker:
@@ -258,7 +284,6 @@ def main(argv=None):
     if MPI.COMM_WORLD.size > 1:
         sys.exit("the benchmark drives its own processes: run it without mpirun")
     sys.path.insert(0, str(Path(__file__).parent))
-    from common import git_state
 
     args.sizes = sorted(args.sizes, reverse=True)  # coarse to fine
     args.load = [loadavg()]
@@ -293,14 +318,9 @@ def measure(args):
             log(f"eps {eps} size {size}: {r['status']} F~={r.get('F_tilde')!r} {r['t_solve']:.2f} s "
                 f"({r.get('stability_events')} stability, {r.get('snaps')} snaps) {r['reason'][:200]}")
 
-    refs = {}
-    for eps in args.eps:
+    refs = references(rows, args.eps)
+    for eps in refs:
         series = [r for r in rows if r["study"] == "mesh" and r["eps"] == eps and r["status"] == "ok"]
-        if not series:
-            continue
-        refs[eps] = reference(series)
-        refs[eps]["conv"] = {k: self_convergence(series, k) for k in ("F_tilde", "V2_over_V0", "p2_over_pa",
-                                                                       "A2_over_A0")}
         for r in series:
             is_ref = refs[eps]["kind"] == "finest" and r["size_crater"] == refs[eps]["finest"]
             r["error"] = math.nan if is_ref else abs(r["F_tilde"] - refs[eps]["F"]) / abs(refs[eps]["F"])
@@ -430,10 +450,34 @@ def write_outputs(rows, refs, mpi, args):
     fig.tight_layout()
     save_figure(fig, OUT / "crater-air.png")
     plt.close(fig)
-    text, previous = markdown(rows, refs, mpi, args), OUT / "crater-air.md"
-    if kept := kept_sections(previous, KEPT):
+    summary = {"settings": {k: getattr(args, k) for k in ("repeats", "core", "eps", "sizes", "reg_eps", "idle_wait")},
+               "wall_s": args.wall, "load": args.load, "git": args.git, "lib_hash": args.lib_hash,
+               "git_end": args.git_end, "lib_hash_end": args.lib_hash_end, "cpu": cpu_name(), "cores": os.cpu_count(),
+               "mpi": [{k: m[k] for k in ("size_crater", "times", "load", "engineering")} for m in mpi],
+               "provenance": provenance()}
+    atomic_text(OUT / "crater-air.json", json.dumps(summary, indent=1) + "\n")
+    write_report(OUT / "crater-air.md", report(rows, summary))
+
+
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report from the rows (CSV) and the summary (JSON: the settings, the machine,
+    the library's copy and the 2-rank runs' timings), with the sections that other scripts keep
+    in the file (``KEPT``) carried over."""
+    args = SimpleNamespace(**summary["settings"], **{k: summary[k] for k in (
+        "wall_s", "load", "git", "lib_hash", "git_end", "lib_hash_end", "cpu", "cores")})
+    refs = references(rows, args.eps)
+    mpi = []
+    for m in summary["mpi"]:
+        run = next(r for r in rows if r["study"] == "mpi2" and r["size_crater"] == m["size_crater"])
+        serial = next((r for r in rows if r["study"] == "mesh" and r["eps"] == MPI_EPS
+                       and r["size_crater"] == m["size_crater"] and r["status"] == "ok"), None)
+        mpi.append({**m, "status": run["status"], "reason": run["reason"] or "", "dofs": run["dofs"],
+                    "time": run["t_process"], "wall_time_s": run["t_solve"], "F_tilde": run["F_tilde"],
+                    "serial_F": serial and serial["F_tilde"], "serial_t": serial and serial["t_solve"]})
+    text = markdown(rows, refs, mpi, args, summary)
+    if kept := kept_sections(OUT / "crater-air.md", KEPT):
         text = text.rstrip("\n") + "\n\n" + kept + "\n"
-    atomic_text(previous, text)
+    return text
 
 
 def events_text(r) -> str:
@@ -442,9 +486,7 @@ def events_text(r) -> str:
     return f"{r['stability_events']} / {r['snaps']}"
 
 
-def markdown(rows, refs, mpi, args) -> str:
-    from common import cpu_name
-
+def markdown(rows, refs, mpi, args, summary) -> str:
     opts = "".join([f" --repeats {args.repeats}" if args.repeats != 2 else "",
                     f" --core {args.core}" if args.core != "0" else "",
                     " --eps " + " ".join(map(str, args.eps)) if args.eps != EPS_DEFAULT else "",
@@ -458,11 +500,11 @@ def markdown(rows, refs, mpi, args) -> str:
                 f"{args.lib_hash_end}): these results are for the copy, not for the library as it is now")
     L = ["# Benchmark: suction cycle of the air-filled crater (scene `crater`)", "",
          f"Regenerate with `{COMMAND}{opts}` from the repository root (or `make bench`); it took "
-         f"{args.wall / 60:.1f} min. One-core timings are the best of {args.repeats} runs, each in a fresh process "
+         f"{args.wall_s / 60:.1f} min. One-core timings are the best of {args.repeats} runs, each in a fresh process "
          f"pinned to one core (`taskset -c {args.core}`, `OMP_NUM_THREADS=1`), warm JIT cache; `cpu` is the "
          "process CPU time of the same solve, a check on wall times disturbed by other jobs "
          f"(load average {args.load[0]} at the start, {args.load[1]} at the end; another sweep may share the "
-         f"machine). Measured on `{cpu_name()}` ({os.cpu_count()} cores); bcfem from {git}.", "",
+         f"machine). Measured on `{args.cpu}` ({args.cores} cores); bcfem from {git}.{provenance_note(summary)}", "",
          "## What is measured", "",
          "* One full cycle of `crater.solve(Params(preload=eps, size_crater=h, surface_energy=g))`: "
          "stage 1 (vent open, platen to eps) and stage 2 (sealed, platen retracted to zero force, "
