@@ -47,7 +47,7 @@ def axisymmetric_reference() -> float:
     from mpi4py import MPI
 
     import bcfem  # noqa: F401
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes import blister_rigid
 
     values = []

@@ -80,7 +80,7 @@ def worker(case: dict) -> dict:
 
     worker_prologue()
     from bcfem.path.continuation import ContinuationError
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes import blister_rigid, blister_studies
 
     t_import = time.perf_counter() - T_START

@@ -87,7 +87,7 @@ def worker(case: dict) -> dict:
     worker_prologue()
     from bcfem.params import ContinuationParams
     from bcfem.path.volume_control import VolumeControl
-    from bcfem.run.runner import trace
+    from bcfem.run.trace import trace
     from bcfem.scenes import blister_rigid
     from bcfem.solver.problem import Problem
 

@@ -47,14 +47,14 @@ def worker(case: dict) -> dict:
 
     t1 = time.perf_counter()
     if case["scene"] == "rigid":
-        from bcfem.run.runner import branch_of
+        from bcfem.run.trace import branch_of
         from bcfem.scenes import blister_rigid
 
         params = blister_rigid.Params(material="neo-hookean", alpha=0.5, v_max=case["v_max"])
         branch = branch_of(blister_rigid.build(params, MPI.COMM_WORLD))
         dofs = 2 * (params.degree * params.cells + 1) + 1
     else:
-        from bcfem.run.runner import branch_of
+        from bcfem.run.trace import branch_of
         from bcfem.scenes import blister_soft
 
         params = blister_soft.Params(stiffness_ratio=case["ratio"], v_max=case["v_max"], refine=case["refine"],

@@ -66,7 +66,7 @@ def soft(edge: str, **extra):
 def traced(scene) -> tuple:
     """The branch and a note: None, or why it ends before V_MAX (its converged part is kept)."""
     from bcfem.path.continuation import ContinuationError
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
 
     try:
         return branch_of(scene), None
@@ -75,7 +75,7 @@ def traced(scene) -> tuple:
 
 
 def main() -> None:
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes import blister_rigid
     from bcfem.scenes.blister_soft.onset import critical_point, onset_by_energy
 

@@ -39,7 +39,7 @@ KEYS = ("V_over_V0", "P", "R1_over_R0", "r1_over_R0")
 def soft(text: str, front: float | None = None):
     """The soft branch of dgamma ``text`` to V_MAX, or to R1 = ``front``."""
     from bcfem.radial_profile import parse
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes import blister_soft
 
     params = blister_soft.Params(edge="adhesive", stiffness_ratio=RATIO, alpha=0.5, gamma_ls=0.5,
@@ -52,7 +52,7 @@ def soft(text: str, front: float | None = None):
 
 def rigid(text: str, front: float = float("inf")):
     from bcfem.radial_profile import parse
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes import blister_rigid
 
     params = blister_rigid.Params(material="neo-hookean", alpha=0.5, edge="adhesive", adhesion=parse(text),
@@ -65,12 +65,12 @@ def main() -> None:
     rows, summary = [], {"stiffness_ratio": RATIO, "R_s": R_S, "width": WIDTH, "soft": SOFT, "rigid": RIGID}
     for model, cases, trace in (("soft", SOFT, soft), ("rigid", RIGID, rigid)):
         for case, text in cases.items():
-            branch = branch_of(text)
+            branch = trace(text)
             rows += [{"model": model, "case": case, **{k: float(r[k]) for k in KEYS}} for r in branch.rows]
             if case == "step":
                 summary[f"{model}_onset"] = {k: float(branch.events[0][k]) for k in ("V_over_V0", "P")}
         leave = R_S + WIDTH / 2
-        step, outer = (branch_of(cases[c], leave).rows[-1] for c in ("step", "outer"))
+        step, outer = (trace(cases[c], leave).rows[-1] for c in ("step", "outer"))
         arrive = next(r for r in rows if r["model"] == model and r["case"] == "step"
                       and r["R1_over_R0"] >= R_S - WIDTH / 2)
         summary[f"{model}_window"] = {

@@ -38,7 +38,7 @@ from dolfinx.fem.petsc import NonlinearProblem, assemble_jacobian, assemble_resi
 from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
 from bcfem.physics.energies import MembraneStrain
-from bcfem.run.runner import trace
+from bcfem.run.trace import trace
 from bcfem.scenes import blister_rigid
 from bcfem.solver import options
 

@@ -39,7 +39,7 @@ import numpy as np
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.runner import branch_of, trace
+from bcfem.run.trace import branch_of, trace
 from bcfem.scenes import blister_3d, blister_rigid
 from bcfem.scenes.blister_3d.report import gather_surface, membrane_figure
 

@@ -80,7 +80,7 @@ from bcfem import ContinuationParams, io
 from bcfem.log import logger
 from bcfem.path.continuation import ContinuationError
 from bcfem.run import demo, sweep
-from bcfem.run.runner import branch_of
+from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_rigid, blister_studies
 
 # %% [markdown]

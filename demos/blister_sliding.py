@@ -72,7 +72,7 @@ import numpy as np
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.runner import branch_of
+from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_rigid
 
 # %% [markdown]

@@ -57,7 +57,7 @@ from scipy.interpolate import CubicSpline
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.runner import branch_of
+from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_rigid
 from bcfem.theory import membrane
 

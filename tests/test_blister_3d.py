@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from bcfem.geometry.outline import check_polygon
-from bcfem.run.runner import branch_of
+from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_3d
 from tests.helpers import bcfem, refused
 
@@ -32,7 +32,7 @@ def test_circle_reproduces_the_axisymmetric_maximum():
 def test_gent_circle_has_both_axisymmetric_extrema():
     """Gent Jm = 100, alpha = 0.5: the N-shaped branch's maximum and minimum, against
     blister-rigid on the same parameters."""
-    from bcfem.run.runner import branch_of as trace
+    from bcfem.run.trace import branch_of as trace
     from bcfem.scenes import blister_rigid
 
     reference = trace(blister_rigid.build(blister_rigid.Params(material="gent", Jm=100, alpha=0.5, v_max=6),

@@ -10,7 +10,8 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from bcfem.run.runner import branch_of, solve_rows
+from bcfem.run.runner import solve_rows
+from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_3d, blister_rigid
 from tests.helpers import bcfem, refused
 

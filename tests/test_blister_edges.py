@@ -7,7 +7,7 @@ from mpi4py import MPI
 import numpy as np
 import pytest
 
-from bcfem.run.runner import branch_of
+from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_rigid, blister_studies
 
 FIG_3_12 = dict(material="gent", Jm=100.0, alpha=0.5, adhesion=2.5)  # dissertation Figs 3.12-3.14

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from bcfem.path.volume_control import VolumeControl
-from bcfem.run.runner import trace
+from bcfem.run.trace import trace
 from bcfem.scenes import blister_rigid
 from bcfem.solver.problem import Problem
 from bcfem.theory import membrane

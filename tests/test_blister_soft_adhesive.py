@@ -145,7 +145,7 @@ def test_onset_tends_to_the_rigid_adhesive_edge(tmp_path):
 
 
 def onset_of(scene) -> dict:
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
 
     (event,) = branch_of(scene).events
     return event
@@ -161,7 +161,7 @@ def test_rigid_limit_of_the_onset_for_any_interface_energies(gamma_ls, delta_gam
     at least 5 per decade, O(1/ratio)) to better than 1e-3 at 1e5, on Fig. 3.14's difference 2.5
     (onset V/V0 = 3.064, where the release rate is flat in V) and on 0; and at 1e5 shifting both
     energies by 2 leaves it (to the O(gamma/ratio) the substrate's own surface stress moves it)."""
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes import blister_rigid
 
     rigid = branch_of(blister_rigid.build(blister_rigid.Params(
@@ -190,7 +190,7 @@ def test_rigid_limit_of_the_onset_for_any_interface_energies(gamma_ls, delta_gam
 def test_onset_by_configurational_force_equals_energy_comparison():
     """At stiffness ratio 100: the V/V0 where -dPi/dR1 turns positive (the scene's switch) and
     the zero of dF/dR1|_V by energies of models held at R1 = 1 +- delta agree to O(delta^2)."""
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes.blister_soft.model import build
     from bcfem.scenes.blister_soft.onset import onset_by_energy
 
@@ -206,7 +206,7 @@ def test_onset_by_configurational_force_equals_energy_comparison():
 def test_fixed_front_critical_point_lies_on_the_propagating_branch():
     """Fig. 4.8's method: a model held at R1 = 1.2 R0 traced until its release rate reaches
     zero is the propagating branch's state at R1 = 1.2 (stiffness ratio 2, Fig. 4.5's tensions)."""
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes.blister_soft.model import build
     from bcfem.scenes.blister_soft.onset import critical_point
 

@@ -158,7 +158,7 @@ R_S, WIDTH = 1.1, 0.1
 
 
 def trace_to_front(delta_gamma, radius, **changes):
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes.blister_soft.model import build
 
     scene = build(blister_soft.Params(**{**STEP, **changes}, delta_gamma=delta_gamma), MPI.COMM_SELF)
@@ -216,7 +216,7 @@ def test_two_ranks_equal_serial_through_a_step(tmp_path):
 
 
 def rigid_rows(adhesion, stop_radius):
-    from bcfem.run.runner import branch_of
+    from bcfem.run.trace import branch_of
     from bcfem.scenes import blister_rigid
 
     params = blister_rigid.Params(material="neo-hookean", alpha=0.5, edge="adhesive", adhesion=adhesion, v_max=1.0,

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from helpers import bcfem
 
-from bcfem.run.runner import trace
+from bcfem.run.trace import trace
 from bcfem.scenes import blister_rigid
 
 

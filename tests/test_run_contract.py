@@ -214,12 +214,12 @@ def test_json_is_strict_and_reads_back(tmp_path):
 
 @pytest.mark.serial
 def test_an_internal_error_is_a_failed_status_not_a_traceback(tmp_path, in_process, monkeypatch, capsys):
-    import bcfem.run.runner
+    import bcfem.run.trace
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("injected")
 
-    monkeypatch.setattr(bcfem.run.runner, "trace", broken)
+    monkeypatch.setattr(bcfem.run.trace, "trace", broken)
     out = tmp_path / "bug"
     assert in_process([*TINY, "--out", str(out)]) == 1
     stderr = capsys.readouterr().err

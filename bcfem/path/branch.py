@@ -15,7 +15,17 @@ import numpy as np
 
 
 class ContinuationError(RuntimeError):
-    """The continuation could not go on; the message says where and why."""
+    """The continuation could not go on; the message says where and why.
+
+    Attributes:
+        branch: the converged part of the branch (empty until a trace fills it in).
+        problem: the problem it was traced on, when a caller must close it.
+    """
+
+    def __init__(self, message: str = "", branch: Branch | None = None, problem=None):
+        super().__init__(message)
+        self.branch = branch if branch is not None else Branch()
+        self.problem = problem
 
 
 @dataclass

@@ -27,9 +27,10 @@ from pathlib import Path
 
 from bcfem import interrupt, io
 from bcfem.log import logger
-from bcfem.path.continuation import ArcLength, Branch, ContinuationError
+from bcfem.path.continuation import ContinuationError
 from bcfem.path.stepping import SteppingError
 from bcfem.run import outdir
+from bcfem.run.scene import Scene
 from bcfem.solver.problem import TIMED, Problem
 
 #: what a scene raises when its path cannot go on (the converged part is kept)
@@ -69,7 +70,7 @@ class Run:
         newton_iterations: over every stage.
     """
 
-    def __init__(self, scene, comm, fields_path: Path | None = None):
+    def __init__(self, scene: Scene, comm, fields_path: Path | None = None):
         self.scene = scene
         self.comm = comm
         self.fields_path = fields_path
@@ -162,7 +163,7 @@ class Run:
         self._close_writers()
 
 
-def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
+def solve(scene: Scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
     """Solve ``scene``; returns (the run, its summary). When the path cannot go on, raises
     :class:`SolveError` (with the run, whose ``summary`` says ``failed``); on a signal
     :class:`~bcfem.interrupt.Interrupted` (``status`` ``interrupted``); on any other
@@ -186,7 +187,7 @@ def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
         raised = interrupt.Interrupted(signum)
     elif raised is not None:
         status, error = "failed", f"internal error: {type(raised).__name__}: {raised}"
-    params = getattr(scene, "params", None)
+    params = scene.params
     run.summary = {
         "scene": scene.name,
         "status": status,
@@ -212,7 +213,7 @@ def solve(scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
     return run, run.summary
 
 
-def solve_rows(scene, comm) -> tuple[list[dict], dict]:
+def solve_rows(scene: Scene, comm) -> tuple[list[dict], dict]:
     """:func:`solve` in memory: (the accepted rows, the summary)."""
     solved, summary = solve(scene, comm)
     return solved.rows, summary
@@ -231,7 +232,7 @@ def time_split(timings: dict, wall: float) -> dict:
     return split
 
 
-def run(scene, out: Path, comm, plots: bool = True) -> dict:
+def run(scene: Scene, out: Path, comm, plots: bool = True) -> dict:
     """Solve ``scene`` and write ``out`` (also on failure or a signal, then raising
     :class:`SolveError` or :class:`~bcfem.interrupt.Interrupted` after writing), with the
     scene's PNGs unless ``plots`` is False; returns the summary. The summary's ``files``
@@ -251,8 +252,7 @@ def run(scene, out: Path, comm, plots: bool = True) -> dict:
             failure, solved, summary = err, err.run, err.run.summary
         with interrupt.deferred():  # the results of a signalled run are written all the same
             io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
-            tables = scene.tables(solved.rows, summary) if hasattr(scene, "tables") else {}
-            for name, table in tables.items():  # the scene's declared tables
+            for name, table in scene.tables(solved.rows, summary).items():  # the scene's declared tables
                 io.write_csv(out / name, table, comm)
             if plots and comm.rank == 0 and solved.rows:
                 for name, fig in scene.figures(solved.rows, summary).items():
@@ -290,86 +290,3 @@ def _write_summary(out: Path, summary: dict, written: list[Path], previous: list
     io.write_json(out / "summary.json", summary, comm)
     if comm.rank == 0:
         outdir.remove_stale(out, previous, summary["files"])
-
-
-# -- arc-length scenes ----------------------------------------------------------------------
-def trace(scene, on_accept=None, run: Run | None = None, arc: ArcLength | None = None,
-          problem: Problem | None = None) -> tuple[Branch, Problem]:
-    """Build the arc-length problem of ``scene``, start it and follow the branch.
-
-    The scene's hooks say how: ``arc_length()`` measures the steps, ``energy_scale`` is the
-    residual's unit, ``first_point`` converges the start, and ``trace_back`` may first trace
-    the branch backwards from there (without switches, and without field output); the rows
-    are then joined in path order, with negative arc lengths before the start. With a ``run`` the problem is the
-    run's (stage ``branch``); a :class:`ContinuationError` then carries the converged
-    part as ``err.branch`` and the problem as ``err.problem``. A given ``arc`` and ``problem``
-    (built for this scene's model, e.g. kept by :class:`bcfem.run.session.Session`) are reused.
-    """
-    arc = arc or scene.arc_length()
-    if problem is None:
-        arguments = (scene.ctx, scene.terms, scene.bcs)
-        options = dict(petsc_options=scene.petsc_options, rows={**scene.rows, **arc.rows()},
-                       energy_scale=scene.energy_scale)
-        problem = run.problem("branch", *arguments, **options) if run else Problem(*arguments, scene.prefix, **options)
-    back = None
-    try:
-        scene.first_point(arc, problem)
-        forward = arc.forward_sign(problem, scene.observe, scene.grows) if scene.grows else 1
-        back, forward = scene.trace_back(arc, problem, forward)
-        branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
-                           guard=scene.guard, switches=scene.switches, direction=forward)
-    except ContinuationError as err:
-        err.problem = problem
-        if not hasattr(err, "branch"):
-            err.branch = Branch()
-        raise
-    if back is not None:
-        branch = _join(back, branch)
-    return branch, problem
-
-
-def _join(back: Branch, forward: Branch) -> Branch:
-    """A backward and a forward branch from the same start, as one branch in path order."""
-    def flip(values):
-        return {**values, "s": -values["s"]}
-
-    for lp in back.limit_points:
-        lp.s, lp.values = -lp.s, flip(lp.values)
-    return Branch(rows=[flip(r) for r in reversed(back.rows[1:])] + forward.rows,
-                  limit_points=list(reversed(back.limit_points)) + forward.limit_points,
-                  events=forward.events,
-                  newton_iterations=back.newton_iterations + forward.newton_iterations,
-                  failed_steps=back.failed_steps + forward.failed_steps,
-                  wall_time_s=back.wall_time_s + forward.wall_time_s)
-
-
-def branch_of(scene, on_accept=None) -> Branch:
-    """Trace ``scene`` and destroy its PETSc objects at once, also when the trace fails
-    (``on_accept(row)`` at every accepted point).
-
-    For scripts that need only the branch; left to the garbage collector, the
-    objects can deadlock at exit under MPI.
-    """
-    try:
-        branch, problem = trace(scene, on_accept)
-    except ContinuationError as error:
-        if getattr(error, "problem", None) is not None:
-            error.problem.close()
-        raise
-    problem.close()
-    return branch
-
-
-def start(arc, problem, scene, attempts: int = 6) -> None:
-    """Converge the first point; if the guess is too far, start closer to the unloaded state.
-
-    Each retry halves the starting load level of the scene's guess (a flatter
-    cap is closer to its equilibrium); the last failure is raised.
-    """
-    for attempt in range(attempts):
-        try:
-            arc.start(problem, scene.start(0.5**attempt))
-            return
-        except ContinuationError:
-            if attempt == attempts - 1:
-                raise

@@ -1,11 +1,12 @@
-"""What a scene is: a geometry and states (the context), energy terms, boundary
-conditions, a load path and its observables. Scenes build one; the runner
-solves it. Nothing here knows which physics a scene holds.
+"""What a scene is: the type the runner takes (:class:`Scene`), and the arc-length scene
+(:class:`BranchScene`): a geometry and states (the context), energy terms, boundary
+conditions, a load path and its observables. Nothing here knows which physics a scene holds.
 
 Every scene has a ``name``, declared ``stages`` (its PETSc prefixes are
-``bcfem_<name>_<stage>_``), ``params``, ``columns``, ``fields``, ``solve(run)`` and
-``figures(rows, summary)`` (:mod:`bcfem.run.runner` drives it). :class:`Scene` is the
-arc-length scene, with the one stage ``branch``; a staged scene declares its own.
+``bcfem_<name>_<stage>_``), ``params``, ``columns``, ``solve(run)``, ``figures(rows,
+summary)`` and ``tables(rows, summary)`` (:mod:`bcfem.run.runner` drives it). A
+:class:`BranchScene` has the one stage ``branch``; a staged scene declares its own, as data
+(:class:`bcfem.run.stages.StagedScene`) or in its ``solve``.
 """
 
 from __future__ import annotations
@@ -16,9 +17,39 @@ from dataclasses import dataclass, field
 from bcfem.params import ContinuationParams
 
 
-@dataclass
 class Scene:
-    """A composed model, ready to solve.
+    """What the runner solves: a scene's contract, with no figures and no extra tables by
+    default.
+
+    Attributes:
+        name: the registry name (the PETSc prefixes ``bcfem_<name>_<stage>_``).
+        stages: the names of the stages it declares.
+        params: its parameters (a dataclass, recorded in ``summary.json``), or None.
+        columns: the columns of ``branch.csv`` (None: every key of the rows).
+    """
+
+    name: str
+    stages: tuple[str, ...]
+    params: object = None
+    columns: list[str] | tuple[str, ...] | None = None
+
+    def solve(self, run) -> None:
+        """Solve into ``run`` (:class:`bcfem.run.runner.Run`): its rows, results and stages'
+        problems. Raises on a path that cannot go on, with the converged part in ``run``."""
+        raise NotImplementedError
+
+    def figures(self, rows, summary) -> dict:
+        """PNG file name -> matplotlib figure, drawn after the solve (rank 0)."""
+        return {}
+
+    def tables(self, rows, summary) -> dict[str, list[dict]]:
+        """CSV file name -> rows, besides ``branch.csv``."""
+        return {}
+
+
+@dataclass
+class BranchScene(Scene):
+    """A composed model traced by arc-length, ready to solve.
 
     Attributes:
         name: the registry name (also the PETSc prefix ``bcfem_<name>_``).
@@ -92,7 +123,7 @@ class Scene:
 
     def first_point(self, arc, problem) -> None:
         """Converge the first point (a scene may reach it another way, e.g. by a homotopy)."""
-        from bcfem.run.runner import start
+        from bcfem.run.trace import start
 
         start(arc, problem, self)
 
@@ -111,7 +142,7 @@ class Scene:
     def solve(self, run) -> None:
         """Trace the branch into ``run``: its rows, limit points, events and counts."""
         from bcfem.path.continuation import ContinuationError
-        from bcfem.run.runner import trace
+        from bcfem.run.trace import trace
 
         run.watch(self.fields)
         try:
@@ -130,10 +161,6 @@ class Scene:
             **(self.summarize(branch) if self.summarize and branch.rows else {}),
             "failed_steps": branch.failed_steps})
         self._branch = branch
-
-    def tables(self, rows, summary) -> dict[str, list[dict]]:
-        """Tables besides ``branch.csv`` (none)."""
-        return {}
 
     def figures(self, rows, summary) -> dict:
         """The scene's ``plots`` of the branch, limit points marked."""

@@ -16,7 +16,7 @@ from collections.abc import Callable, Hashable
 from mpi4py import MPI
 
 from bcfem.path.continuation import ArcLength, Branch, ContinuationError
-from bcfem.run.runner import branch_of, trace
+from bcfem.run.trace import branch_of, trace
 from bcfem.solver.problem import Problem
 
 

@@ -15,6 +15,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from bcfem.run.scene import Scene
+
 
 @dataclass(frozen=True)
 class Stage:
@@ -40,7 +42,7 @@ class Stage:
     petsc_options: dict = field(default_factory=dict)
 
 
-class StagedScene:
+class StagedScene(Scene):
     """A scene whose solve is its stages in order. A subclass sets ``name``, ``columns``,
     ``stage_names`` and ``params``, builds its model in :meth:`setup` and returns its stages
     from :meth:`plan`; ``model.ctx``, ``model.bcs`` and :attr:`problem_options` are shared by
@@ -89,8 +91,3 @@ class StagedScene:
                 stage.drive(problem, run)
         self.finish(run)
 
-    def figures(self, rows, summary) -> dict:
-        return {}
-
-    def tables(self, rows, summary) -> dict[str, list[dict]]:
-        return {}

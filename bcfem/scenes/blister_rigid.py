@@ -34,7 +34,7 @@ from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
 from bcfem.physics.protocols import find_term
 from bcfem.radial_profile import RadialProfile, check_resolved, shape_of
 from bcfem.radial_profile import parse as parse_profile
-from bcfem.run.scene import Scene
+from bcfem.run.scene import BranchScene
 from bcfem.scenes.membrane_edges import EDGES, domain
 from bcfem.theory.membrane import droplet, droplet_angle_from_volume, simple_membrane_pressure
 
@@ -210,7 +210,7 @@ def compose(params: Params, comm, extra_terms=()) -> Model:
     return Model(ctx, terms, edge, observables(ctx, terms), switches, structure(params))
 
 
-def scene_for(model: Model, params: Params) -> Scene:
+def scene_for(model: Model, params: Params) -> BranchScene:
     """The blister of ``params`` on a composed model: its run-time constants set and its
     states put back as composed, so that the scene traces as a newly built one does.
 
@@ -228,7 +228,7 @@ def scene_for(model: Model, params: Params) -> Scene:
     def start(fraction: float = 1.0) -> float:
         return cap_guess(ctx, params, fraction * params.start_at)
 
-    return Scene(name="blister-rigid", ctx=ctx, terms=model.terms, bcs=model.edge.bcs, load="pressure",
+    return BranchScene(name="blister-rigid", ctx=ctx, terms=model.terms, bcs=model.edge.bcs, load="pressure",
                  start=start, observe=model.observe,
                  end=lambda values: max(values["V_over_V0"] - params.v_max,
                                         values["R1_over_R0"] - params.stop_radius),
@@ -247,7 +247,7 @@ def scene_for(model: Model, params: Params) -> Scene:
                  summarize=summarize, params=params, columns=COLUMNS)
 
 
-def build(params: Params, comm, extra_terms=()) -> Scene:
+def build(params: Params, comm, extra_terms=()) -> BranchScene:
     """The blister of ``params``: :func:`compose` (see its arguments), then :func:`scene_for`."""
     return scene_for(compose(params, comm, extra_terms), params)
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from bcfem.run.scene import Scene
+from bcfem.run.scene import BranchScene
 
 
 def gather_surface(u, measures, comm):
@@ -91,7 +91,7 @@ def fronts_figure(fronts, title: str):
 
 
 @dataclass
-class MembraneScene(Scene):
+class MembraneScene(BranchScene):
     """An arc-length scene that also draws its last state (``membrane.png``) and, with an
     adhesive edge, the release rate along the outline there (``release.png``) and the front at
     each step of its growth (``front.png``)."""

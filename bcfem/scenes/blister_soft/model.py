@@ -61,7 +61,7 @@ from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SolidStrain, SurfaceTension
 from bcfem.physics.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
 from bcfem.radial_profile import RadialProfile, scale_of, shape_of
-from bcfem.run.scene import Scene
+from bcfem.run.scene import BranchScene
 from bcfem.scenes.blister_soft.front import front_weight, material_coordinates, weight_function
 from bcfem.scenes.blister_soft.params import COLUMNS, Params
 from bcfem.scenes.blister_soft.path import SoftScene
@@ -275,7 +275,7 @@ def observables(model: Model):
     return observe
 
 
-def build(params: Params, comm, data=None) -> Scene:
+def build(params: Params, comm, data=None) -> BranchScene:
     """Compose the blister on a soft substrate (``data``: a distributed substrate mesh to reuse)."""
     model = Model(params, comm, data)
     observe_all = observables(model)

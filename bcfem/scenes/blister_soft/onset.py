@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 
 from bcfem.path.roots import bracketed_root
-from bcfem.run.runner import branch_of
+from bcfem.run.trace import branch_of
 from bcfem.scenes.blister_soft.model import V0
 
 

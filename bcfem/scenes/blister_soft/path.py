@@ -18,8 +18,8 @@ from __future__ import annotations
 from bcfem.log import logger
 from bcfem.path.continuation import ArcLength, ContinuationError
 from bcfem.radial_profile import scale_of
-from bcfem.run.runner import start
-from bcfem.run.scene import Scene
+from bcfem.run.scene import BranchScene
+from bcfem.run.trace import start
 
 #: the modulus of the first point: stiff enough for Newton from a cap on a flat substrate
 STIFF_START = 1e3
@@ -30,7 +30,7 @@ STIFF_START = 1e3
 STEP_ITERATIONS = 8
 
 
-class SoftScene(Scene):
+class SoftScene(BranchScene):
     """An arc-length scene whose arc length is measured on the wetted surface by the
     substrate's displacement and the membrane's lift together (``norm``, ``mean``), whose
     start is softened from a stiff substrate (:func:`homotopy`), and whose branch is traced

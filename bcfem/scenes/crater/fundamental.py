@@ -26,6 +26,7 @@ from bcfem.params import ContinuationParams
 from bcfem.path.continuation import ArcLength, ContinuationError
 from bcfem.path.stepping import LoadPath
 from bcfem.physics.fluids import FLUIDS, Vacuum
+from bcfem.run.scene import Scene
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import CLOSURE_CRITERIA, COLUMNS, MAX_CLOSURE_PRELOAD, PRELOAD_TO_CLOSURE, Params
 from bcfem.scenes.crater.report import finish, plot
@@ -42,7 +43,7 @@ def closure(values: dict) -> float:
     return max(c.volume - V, min(c.trapped - V, c.area - A))
 
 
-class FundamentalCycle:
+class FundamentalCycle(Scene):
     """The crater scene on its fundamental branch (:mod:`bcfem.run.runner` solves it)."""
 
     name = "crater"

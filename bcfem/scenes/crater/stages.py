@@ -33,6 +33,7 @@ from bcfem.mpi import global_sum, real_value
 from bcfem.path.stepping import LoadPath, SteppingError
 from bcfem.physics.cavitation import BISECTIONS, change_phase, liquid_or_vapour, phase_change
 from bcfem.physics.fluids import FLUIDS, Vacuum
+from bcfem.run.scene import Scene
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import (
     CLOSURE_CRITERIA,
@@ -53,7 +54,7 @@ LINE_SEARCH_FALLBACKS = ("bt", "cp")
 CAREFUL = {"snes_max_it": 80}
 
 
-class CraterCycle:
+class CraterCycle(Scene):
     """The crater scene: a :class:`Crater` model driven through the stages ``load`` and
     ``unload`` (:mod:`bcfem.run.runner` solves it).
 

@@ -19,6 +19,7 @@ from bcfem.mpi import global_sum, real_value
 from bcfem.path.stepping import LoadPath, SteppingError
 from bcfem.physics.cavitation import change_phase, liquid_or_vapour, phase_change
 from bcfem.physics.fluids import FLUIDS
+from bcfem.run.scene import Scene
 from bcfem.scenes.crater.report import classify, symmetry_breaking
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 from bcfem.scenes.crater_double.model import DoubleCrater
@@ -30,7 +31,7 @@ BISECTIONS = 12
 ONE, C1, C2 = "fluid_pressure", "p_c1", "p_c2"
 
 
-class DoubleCraterCycle:
+class DoubleCraterCycle(Scene):
     """The scene ``crater-double``: :class:`DoubleCrater` pressed to the preload and unloaded
     to eps = 0 (:mod:`bcfem.run.runner` solves it)."""
 

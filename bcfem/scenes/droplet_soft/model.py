@@ -40,6 +40,7 @@ from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.physics.linear_solid import LinearDropLoads, LinearElasticity, LinearSurfaceTension, SubstrateKinematics
 from bcfem.physics.materials import NearlyIncompressibleNeoHookean
 from bcfem.physics.sessile_drop import SphericalCapDrop, cap_volume
+from bcfem.run.scene import Scene
 from bcfem.scenes.droplet_soft.params import COLUMNS, Params
 
 #: the three tensions' run-time constants and the Params fields of their targets
@@ -64,7 +65,7 @@ def profile_radii(width: float) -> np.ndarray:
     return np.unique(np.concatenate([np.linspace(0.0, width, 401), 1.0 - near, 1.0 + near, [1.0]]))
 
 
-class DropletSoft:
+class DropletSoft(Scene):
     """The droplet-soft scene (:mod:`bcfem.run.runner` solves it)."""
 
     name = "droplet-soft"
