@@ -360,14 +360,27 @@ def table(rows: Sequence[Mapping], columns: Sequence[tuple[str, str | Callable]]
     return "\n".join(lines)
 
 
-def render(template: str | Path, rows: Sequence[Mapping], summary: Mapping, **fields) -> str:
-    """Fill ``template`` (a path, or a name in benchmarks/templates/) with ``summary`` and
-    ``fields`` (tables and derived values, which win); ``rows`` are there as ``${rows}`` (their count)
-    for templates that say how many runs there were. Unknown fields raise KeyError."""
+SECTION = re.compile(r"^<!-- section: ([\w-]+) -->\n", re.M)
+
+
+def template_text(template: str | Path, section: str | None = None) -> str:
+    """The text of ``template`` (a path, or a name in benchmarks/templates/): the page before its
+    first ``<!-- section: NAME -->`` line, or the named section (up to the next one), which a report
+    fills once per case or only when its case arises."""
     path = Path(template)
     if not path.is_absolute() and not path.exists():
         path = TEMPLATES / path
-    text = path.read_text()
+    parts = SECTION.split(path.read_text())
+    named = dict(zip(parts[1::2], parts[2::2]))
+    return parts[0] if section is None else named[section]
+
+
+def render(template: str | Path, rows: Sequence[Mapping], summary: Mapping, section: str | None = None,
+           **fields) -> str:
+    """Fill ``template`` (or its ``section``, see :func:`template_text`) with ``summary`` and
+    ``fields`` (tables and derived values, which win); ``rows`` are there as ``${rows}`` (their count)
+    for templates that say how many runs there were. Unknown fields raise KeyError."""
+    text = template_text(template, section)
     return _Fields(text).substitute(_Lookup({**summary, "rows": len(rows), **fields}))
 
 

@@ -70,7 +70,9 @@ from common import (  # noqa: E402
     provenance_note,
     read_csv,
     reference,
+    render,
     save_figure,
+    table,
     wait_idle,
     worker_prologue,
     worker_result,
@@ -487,179 +489,153 @@ def events_text(r) -> str:
 
 
 def markdown(rows, refs, mpi, args, summary) -> str:
+    """benchmarks/templates/crater-air.md filled: its page, and its sections once per case."""
+    T = "crater-air.md"
+
+    def part(section, **fields):
+        return render(T, rows, summary, section=section, **fields)
+
     opts = "".join([f" --repeats {args.repeats}" if args.repeats != 2 else "",
                     f" --core {args.core}" if args.core != "0" else "",
                     " --eps " + " ".join(map(str, args.eps)) if args.eps != EPS_DEFAULT else "",
                     " --sizes " + " ".join(map(str, args.sizes)) if sorted(args.sizes) != sorted(SIZES_DEFAULT) else "",
                     (" --reg-eps " + " ".join(map(str, args.reg_eps))).rstrip() if args.reg_eps != REG_EPS else "",
                     f" --idle-wait {args.idle_wait:g}" if args.idle_wait != 600 else ""])
-    git = (f"`{args.git}`, copied at the start (content hash {args.lib_hash}); every run of this benchmark "
-           "imports that copy")
+    library = (f"`{args.git}`, copied at the start (content hash {args.lib_hash}); every run of this benchmark "
+               "imports that copy")
     if args.lib_hash_end != args.lib_hash:
-        git += (f". **The repository's library changed during the run** (now `{args.git_end}`, hash "
-                f"{args.lib_hash_end}): these results are for the copy, not for the library as it is now")
-    L = ["# Benchmark: suction cycle of the air-filled crater (scene `crater`)", "",
-         f"Regenerate with `{COMMAND}{opts}` from the repository root (or `make bench`); it took "
-         f"{args.wall_s / 60:.1f} min. One-core timings are the best of {args.repeats} runs, each in a fresh process "
-         f"pinned to one core (`taskset -c {args.core}`, `OMP_NUM_THREADS=1`), warm JIT cache; `cpu` is the "
-         "process CPU time of the same solve, a check on wall times disturbed by other jobs "
-         f"(load average {args.load[0]} at the start, {args.load[1]} at the end; another sweep may share the "
-         f"machine). Measured on `{args.cpu}` ({args.cores} cores); bcfem from {git}.{provenance_note(summary)}", "",
-         "## What is measured", "",
-         "* One full cycle of `crater.solve(Params(preload=eps, size_crater=h, surface_energy=g))`: "
-         "stage 1 (vent open, platen to eps) and stage 2 (sealed, platen retracted to zero force, "
-         "the zero located by Brent). Time (`wall_time_s` in the CSV for one core) = mesh + forms + both stages; "
-         "`t_process` adds interpreter start and `import bcfem`.",
-         "* F~ = (1 - p2/pa) A2/A0. A2 = pi r_edge^2, r_edge where the crater wall leaves the plate, located "
-         "inside its element (`bcfem/contact/plate_edge.py`; the tables of this file up to the section on A2 were "
-         "computed with the former rule, midway between the highest wall node on the plate and the next one off "
-         "it). At eps = 0.2 only the rim node (the corner where the wall meets the bottom face) is on the plate, "
-         "so A2 is the rim's current radius under either rule; V2/V0 (the crater volume, a boundary integral) "
-         "and p2/pa (Boyle: p2 = pa V1/V2) are smooth functionals of the solution.",
-         "* **Element**: P2 displacement - P1 pressure (Taylor-Hood) is the only element of the scene, so the "
-         "study is over meshes only; there is no degree study. `size_crater` is the element size at the crater "
-         "over its base radius a (the mesh is graded to `max(0.5, size_crater)` far away).",
-         "* `stab / snaps`: changes of the number of unstable axisymmetric modes (inertia of the tangent) "
-         "and steps passed by pseudo-time relaxation along the path (`summary['instabilities']`).", "",
-         "## Reference", ""]
+        library += (f". **The repository's library changed during the run** (now `{args.git_end}`, hash "
+                    f"{args.lib_hash_end}): these results are for the copy, not for the library as it is now")
+
+    references_ = []
     for eps, ref in refs.items():
         signs = ", ".join(f"{x:+.2e}" for x in ref["differences"])
         if ref["kind"] == "richardson":
-            L.append(f"* **eps = {eps:g}**: F~_ref = {ref['F']:.8f}, Richardson extrapolation of size_crater "
-                     f"{ref['meshes_used'][0]:g} and {ref['meshes_used'][1]:g} with the order observed on the three "
-                     f"finest meshes, p = {ref['order']:.2f} (the finest {MONOTONE_MESHES} meshes converge "
-                     f"monotonically). Successive differences of F~ (coarse to fine): {signs}.")
+            references_.append(part("reference-richardson", eps=eps, F=ref["F"], coarse=ref["meshes_used"][0],
+                                    fine=ref["meshes_used"][1], order=ref["order"], monotone=MONOTONE_MESHES,
+                                    signs=signs))
         else:
             why = (f"the finest {MONOTONE_MESHES} meshes do not converge monotonically" if not ref["monotone"]
                    else "the observed order of the three finest meshes is "
                    + (f"{ref['order']:.2f}, outside [0.5, 8]" if ref["order"] is not None else "undefined"))
-            L.append(f"* **eps = {eps:g}**: no Richardson extrapolation: {why} (successive differences of F~, "
-                     f"coarse to fine: {signs}; {ref['sign_changes']} sign changes). **The reference is the finest "
-                     f"successful mesh, size_crater = {ref['finest']:g}, F~_ref = {ref['F']:.8f}, and every error "
-                     "below is relative to that mesh, not to the exact solution**; the finest mesh has no error "
-                     "entry.")
-    L += ["", f"Criterion: Richardson is used when the last {MONOTONE_MESHES - 1} differences of F~ keep one sign and "
-          "shrink, and the order p solving (F2 - F1)/(F3 - F2) = (h1^p - h2^p)/(h2^p - h3^p) on the three finest "
-          "meshes lies in [0.5, 8]; the extrapolation is F_ref = F3 + (F3 - F2)/((h2/h3)^p - 1).", ""]
+            references_.append(part("reference-finest", eps=eps, why=why, signs=signs,
+                                    sign_changes=ref["sign_changes"], finest=ref["finest"], F=ref["F"]))
 
+    meshes = []
     for eps, ref in refs.items():
         ms = [r for r in rows if r["study"] == "mesh" and r["eps"] == eps]
-        L += [f"## Mesh convergence at eps = {eps:g} (one core, surface_energy = {GAMMA:g})", "",
-              "| size_crater | dofs | F~ | rel. error of F~ | V2/V0 | p2/pa | A2/A0 | V1/V0 | t [s] | cpu [s] "
-              "| process [s] | stab / snaps | Newton its | status |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-        for r in ms:
-            if r["status"] != "ok":
-                L.append(f"| {r['size_crater']:g} | | | | | | | | {r['t_solve']:.2f} | {fmt(r['c_solve'], '.2f')} "
-                         f"| {r['t_process']:.2f} | | {r['its'] or ''} | **{r['status']}**: {r['reason'][:220]} |")
-                continue
-            err = fmt(r["error"]) or "ref"
-            L.append(f"| {r['size_crater']:g} | {r['dofs']} | {r['F_tilde']:.6f} | {err} | {r['V2_over_V0']:.6f} "
-                     f"| {r['p2_over_pa']:.6f} | {r['A2_over_A0']:.6f} | {r['V1_over_V0']:.6f} | {r['t_solve']:.2f} "
-                     f"| {r['c_solve']:.2f} | {r['t_process']:.2f} | {events_text(r)} | {r['its']} | ok"
-                     + ("" if r["reproducible"] else " (**runs differ**)") + " |")
-        L += ["", "Self-convergence (no reference involved): `change` is |q(h) / q(next finer h) - 1|; `rate` "
-              "is log(change(h_prev)/change(h)) / log(h_prev/h); `fit` is the slope of log|q - q(finest)| "
-              "against log h over the other meshes; `p(3 finest)` the order from the three finest meshes "
-              "(empty when their differences change sign).", "",
-              "| quantity | " + " | ".join(f"change {r['size_crater']:g}" for r in ms if r["status"] == "ok")
-              + " | rates | fit | p(3 finest) | sign changes |",
-              "|---" * (len([r for r in ms if r["status"] == "ok"]) + 5) + "|"]
-        for key in ("F_tilde", "V2_over_V0", "p2_over_pa", "A2_over_A0"):
-            c = ref["conv"][key]
-            L.append(f"| {key.replace('_over_', '/').replace('_tilde', '~')} | "
-                     + " | ".join(fmt(x, ".1e") for x in c["delta"])
-                     + f" | {', '.join(fmt(x, '.2f') for x in c['rates'] if not math.isnan(x))} | {fmt(c['fit'], '.2f')} "
-                     f"| {fmt(c['order3'], '.2f')} | {c['sign_changes']} |")
-        ok = [r for r in ms if r["status"] == "ok" and not math.isnan(r["error"])]
-        eng = [r for r in ok if r["error"] < ENGINEERING]
-        L += [""]
+        good = [r for r in ms if r["status"] == "ok"]
+
+        def cells(r, ok_cells, failed_cells):
+            return ok_cells(r) if r["status"] == "ok" else failed_cells(r)
+
+        mesh_table = table(ms, [
+            ("size_crater", "{size_crater:g}"), ("dofs", lambda r: cells(r, lambda r: f"{r['dofs']}", lambda r: "")),
+            ("F~", lambda r: cells(r, lambda r: f"{r['F_tilde']:.6f}", lambda r: "")),
+            ("rel. error of F~", lambda r: cells(r, lambda r: fmt(r["error"]) or "ref", lambda r: "")),
+            *[(head, lambda r, k=k: cells(r, lambda r: f"{r[k]:.6f}", lambda r: ""))
+              for head, k in (("V2/V0", "V2_over_V0"), ("p2/pa", "p2_over_pa"), ("A2/A0", "A2_over_A0"),
+                              ("V1/V0", "V1_over_V0"))],
+            ("t [s]", "{t_solve:.2f}"),
+            ("cpu [s]", lambda r: cells(r, lambda r: f"{r['c_solve']:.2f}", lambda r: fmt(r["c_solve"], ".2f"))),
+            ("process [s]", "{t_process:.2f}"), ("stab / snaps", events_text),
+            ("Newton its", lambda r: cells(r, lambda r: f"{r['its']}", lambda r: f"{r['its'] or ''}")),
+            ("status", lambda r: cells(r, lambda r: "ok" + ("" if r["reproducible"] else " (**runs differ**)"),
+                                       lambda r: f"**{r['status']}**: {r['reason'][:220]}"))])
+        conv_columns = [("quantity", lambda k: k.replace("_over_", "/").replace("_tilde", "~"))]
+        conv_columns += [(f"change {r['size_crater']:g}", lambda k, i=i: fmt(ref["conv"][k]["delta"][i], ".1e"))
+                         for i, r in enumerate(good)]
+        conv_columns += [
+            ("rates", lambda k: ", ".join(fmt(x, ".2f") for x in ref["conv"][k]["rates"] if not math.isnan(x))),
+            ("fit", lambda k: fmt(ref["conv"][k]["fit"], ".2f")), ("p(3 finest)", lambda k: fmt(ref["conv"][k]["order3"], ".2f")),
+            ("sign changes", lambda k: f"{ref['conv'][k]['sign_changes']}")]
+        self_conv = table(("F_tilde", "V2_over_V0", "p2_over_pa", "A2_over_A0"), conv_columns)
+        eng = [r for r in good if not math.isnan(r["error"]) and r["error"] < ENGINEERING]
         if eng:
             best = min(eng, key=lambda r: r["t_solve"])
-            L.append(f"Fastest run with F~ within {100 * ENGINEERING:g} % of the reference: size_crater "
-                     f"{best['size_crater']:g}, error {best['error']:.1e}, {best['t_solve']:.2f} s on one core.")
+            fastest = (f"Fastest run with F~ within {100 * ENGINEERING:g} % of the reference: size_crater "
+                       f"{best['size_crater']:g}, error {best['error']:.1e}, {best['t_solve']:.2f} s on one core.")
         else:
-            L.append(f"No mesh other than the reference is within {100 * ENGINEERING:g} % of it.")
-        L.append("")
+            fastest = f"No mesh other than the reference is within {100 * ENGINEERING:g} % of it."
+        meshes.append(part("mesh", eps=eps, gamma=GAMMA, table=mesh_table, self_convergence=self_conv,
+                           fastest=fastest))
 
     # -- regulariser
-    L += ["## Regulariser: surface energy of the crater wall", "",
-          f"Default mesh (size_crater = {SIZE_DEFAULT:g}), one core. `change` is |F~(g) / F~(0.01) - 1| (the CSV's "
-          "`error` column for these rows); the requirement is a change below 1 % when g is halved.", "",
-          "| eps | surface_energy | F~ | change vs 0.01 | V2/V0 | p2/pa | A2/A0 | t [s] | stab / snaps | status |",
-          "|---|---|---|---|---|---|---|---|---|---|"]
-    verdicts = []
+    reg_rows, verdicts = [], []
     for eps in args.reg_eps:
         reg = [r for r in rows if r["study"] == "regulariser" and r["eps"] == eps]
-        for r in reg:
-            if r["status"] != "ok":
-                L.append(f"| {eps:g} | {r['surface_energy']:g} | | | | | | {r['t_solve']:.2f} | | "
-                         f"**{r['status']}**: {r['reason'][:220]} |")
-                continue
-            L.append(f"| {eps:g} | {r['surface_energy']:g} | {r['F_tilde']:.6f} | {fmt(r['error'], '.2%') or '-'} "
-                     f"| {r['V2_over_V0']:.6f} | {r['p2_over_pa']:.6f} | {r['A2_over_A0']:.6f} | {r['t_solve']:.2f} "
-                     f"| {events_text(r)} | ok |")
+        reg_rows += reg
         half = next(r for r in reg if r["surface_energy"] == REG_GAMMAS[0])
         if half["status"] == "ok" and not math.isnan(half["error"]):
             verdicts.append(f"eps = {eps:g}: halving changes F~ by {half['error']:.2%} "
                             f"({'meets' if half['error'] < 0.01 else 'does NOT meet'} the < 1 % requirement)")
         else:
             verdicts.append(f"eps = {eps:g}: not measured (a run failed)")
-    L += ["", ("Verdict: " + "; ".join(verdicts) + ".") if verdicts else "Not run (`--reg-eps` empty).", "",
-          "Over every preload of Fig. 7.6, with four halvings and the same model on half the load step: "
-          "`crater-regulariser.md` (`benchmarks/crater_regulariser.py`).", ""]
+
+    def ok_only(fmt_ok):
+        return lambda r: fmt_ok(r) if r["status"] == "ok" else ""
+
+    regulariser = table(reg_rows, [
+        ("eps", "{eps:g}"), ("surface_energy", "{surface_energy:g}"), ("F~", ok_only(lambda r: f"{r['F_tilde']:.6f}")),
+        ("change vs 0.01", ok_only(lambda r: fmt(r["error"], ".2%") or "-")),
+        ("V2/V0", ok_only(lambda r: f"{r['V2_over_V0']:.6f}")), ("p2/pa", ok_only(lambda r: f"{r['p2_over_pa']:.6f}")),
+        ("A2/A0", ok_only(lambda r: f"{r['A2_over_A0']:.6f}")), ("t [s]", "{t_solve:.2f}"),
+        ("stab / snaps", events_text),
+        ("status", lambda r: "ok" if r["status"] == "ok" else f"**{r['status']}**: {r['reason'][:220]}")])
 
     # -- 2 ranks
-    L += ["## One full cycle on 2 cores", ""]
     if mpi:
-        L += [f"`/usr/bin/time mpirun -n 2 bcfem run crater --preload {MPI_EPS:g} --size-crater X --quiet --out DIR` "
-              f"(elapsed time of the whole command: MPI start, imports, mesh, both stages, writing branch.csv, "
-              f"summary.json and cycle.png), best of {args.repeats}; `in solve` is the summary's `wall_time_s`. "
-              f"Before each mesh's runs the benchmark waits (up to {args.idle_wait:g} s) for the machine to be idle; "
-              "`cores busy` is the CPU use of all processes (from /proc/stat, over 3 s) just before the runs "
-              "and just after them (2 = both cores busy). "
-              f"Target: under {MPI_BUDGET:g} s at engineering accuracy (F~ within 1 % of the reference).", "",
-              "| size_crater | engineering accuracy? | dofs | elapsed [s] (all runs) | in solve [s] | one core, "
-              "in solve [s] | F~ (2 ranks) | rel. error | 2 ranks vs 1 rank | cores busy before / after | status |",
-              "|---|---|---|---|---|---|---|---|---|---|---|"]
-        for m in mpi:
-            if m["status"] != "ok":
-                L.append(f"| {m['size_crater']:g} | | | {', '.join(f'{t:.2f}' for t in m['times'])} | | | | | | "
-                         f"{m['load']} | **failed**: {m['reason'][:200]} |")
-                continue
-            err = abs(m["F_tilde"] - refs[MPI_EPS]["F"]) / abs(refs[MPI_EPS]["F"])
-            L.append(f"| {m['size_crater']:g} | {'yes (fastest such mesh)' if m['engineering'] else 'default mesh'} "
-                     f"| {m['dofs']} | {m['time']:.2f} ({', '.join(f'{t:.2f}' for t in m['times'])}) "
-                     f"| {m['wall_time_s']:.2f} | {fmt(m['serial_t'], '.2f')} | {m['F_tilde']:.6f} | {err:.1e} "
-                     f"| {fmt(m['serial_F'] and abs(m['F_tilde'] / m['serial_F'] - 1), '.1e')} | {m['load']} | ok |")
+        def mpi_ok(fmt_ok):
+            return lambda m: fmt_ok(m) if m["status"] == "ok" else ""
+
+        times = lambda m: ", ".join(f"{t:.2f}" for t in m["times"])  # noqa: E731
+        error = lambda m: abs(m["F_tilde"] - refs[MPI_EPS]["F"]) / abs(refs[MPI_EPS]["F"])  # noqa: E731
+        mpi_table = table(mpi, [
+            ("size_crater", "{size_crater:g}"),
+            ("engineering accuracy?", mpi_ok(lambda m: "yes (fastest such mesh)" if m["engineering"] else "default mesh")),
+            ("dofs", mpi_ok(lambda m: f"{m['dofs']}")),
+            ("elapsed [s] (all runs)", lambda m: f"{m['time']:.2f} ({times(m)})" if m["status"] == "ok" else times(m)),
+            ("in solve [s]", mpi_ok(lambda m: f"{m['wall_time_s']:.2f}")),
+            ("one core, in solve [s]", mpi_ok(lambda m: fmt(m["serial_t"], ".2f"))),
+            ("F~ (2 ranks)", mpi_ok(lambda m: f"{m['F_tilde']:.6f}")), ("rel. error", mpi_ok(lambda m: f"{error(m):.1e}")),
+            ("2 ranks vs 1 rank", mpi_ok(lambda m: fmt(m["serial_F"] and abs(m["F_tilde"] / m["serial_F"] - 1), ".1e"))),
+            ("cores busy before / after", "{load}"),
+            ("status", lambda m: "ok" if m["status"] == "ok" else f"**failed**: {m['reason'][:200]}")])
         eng = next((m for m in mpi if m["engineering"] and m["status"] == "ok"), None)
-        if eng:
-            L += ["", f"Verdict: one cycle at engineering accuracy takes {eng['time']:.1f} s on 2 cores "
-                  f"({'met' if eng['time'] < MPI_BUDGET else 'NOT met'}: target < {MPI_BUDGET:g} s).", ""]
+        verdict = (f"\nVerdict: one cycle at engineering accuracy takes {eng['time']:.1f} s on 2 cores "
+                   f"({'met' if eng['time'] < MPI_BUDGET else 'NOT met'}: target < {MPI_BUDGET:g} s).\n") if eng else ""
+        mpi_text = part("mpi", mpi_eps=MPI_EPS, repeats=args.repeats, idle_wait=args.idle_wait, budget=MPI_BUDGET,
+                        table=mpi_table, verdict=verdict)
     else:
-        L += [f"Not measured (no eps = {MPI_EPS:g} reference).", ""]
+        mpi_text = part("mpi-none", mpi_eps=MPI_EPS)
 
     # -- solver tolerance
     tol = [r for r in rows if r["study"] == "tolerance"]
+    tolerance = ""
     if tol:
-        L += ["## Solver tolerance", "",
-              f"The same runs with `{TIGHT}` (bcfem's defaults: snes_rtol 1e-10, snes_atol 1e-10, snes_stol 1e-12), "
-              "to tell the mesh-to-mesh scatter from Newton's stopping test:", "",
-              "| eps | size_crater | F~ (default tolerances) | F~ (tight) | change | stab / snaps (tight) | status |",
-              "|---|---|---|---|---|---|---|"]
-        for r in tol:
-            base = next(q for q in rows if q["study"] == "mesh" and q["eps"] == r["eps"]
+        def base(r):
+            return next(q for q in rows if q["study"] == "mesh" and q["eps"] == r["eps"]
                         and q["size_crater"] == r["size_crater"])
-            if r["status"] != "ok":
-                L.append(f"| {r['eps']:g} | {r['size_crater']:g} | {base['F_tilde']:.10f} | | | | "
-                         f"**{r['status']}**: {r['reason'][:200]} |")
-                continue
-            L.append(f"| {r['eps']:g} | {r['size_crater']:g} | {base['F_tilde']:.10f} | {r['F_tilde']:.10f} "
-                     f"| {r['tol_change']:.1e} | {events_text(r)} | ok |")
-        L.append("")
 
-    # -- findings
-    L += ["## Notes", ""]
+        tolerance = part("tolerance", tight=TIGHT, table=table(tol, [
+            ("eps", "{eps:g}"), ("size_crater", "{size_crater:g}"),
+            ("F~ (default tolerances)", lambda r: f"{base(r)['F_tilde']:.10f}"),
+            ("F~ (tight)", ok_only(lambda r: f"{r['F_tilde']:.10f}")), ("change", ok_only(lambda r: f"{r['tol_change']:.1e}")),
+            ("stab / snaps (tight)", events_text),
+            ("status", lambda r: "ok" if r["status"] == "ok" else f"**{r['status']}**: {r['reason'][:200]}")]))
+
+    return render(T, rows, summary, command=COMMAND + opts, wall_min=args.wall_s / 60, load_start=args.load[0],
+                  load_end=args.load[1], library=library, provenance=provenance_note(summary),
+                  references="".join(references_).rstrip("\n"), differences=MONOTONE_MESHES - 1,
+                  meshes="".join(meshes), size_default=SIZE_DEFAULT, regulariser=regulariser,
+                  regulariser_verdict=("Verdict: " + "; ".join(verdicts) + ".") if verdicts
+                  else "Not run (`--reg-eps` empty).",
+                  mpi=mpi_text, tolerance=tolerance, notes=notes(rows, refs, part))
+
+
+def notes(rows, refs, part) -> str:
+    """The Notes: per preload, what the mesh study, the failures and the tolerance runs showed."""
+    L = []
     for eps, ref in refs.items():
         ms = [r for r in rows if r["study"] == "mesh" and r["eps"] == eps]
         failed = [r for r in ms if r["status"] != "ok"]
@@ -683,8 +659,7 @@ def markdown(rows, refs, mpi, args, summary) -> str:
         if failed:
             parts.append("no result on " + "; ".join(f"{r['size_crater']:g} ({r['status']}: {r['reason'][:160]})"
                                                      for r in failed))
-        tol = [r for r in rows if r["study"] == "tolerance" and r["eps"] == eps]
-        for r in tol:
+        for r in (r for r in rows if r["study"] == "tolerance" and r["eps"] == eps):
             if r["status"] == "ok":
                 parts.append(f"with tight Newton tolerances F~ on {r['size_crater']:g} moves by {r['tol_change']:.0e}")
             else:
@@ -695,31 +670,19 @@ def markdown(rows, refs, mpi, args, summary) -> str:
                              "and relaxed until the run gives up or hits the time limit")
         L.append("* " + "; ".join(parts) + ".")
         if not snapped and not failed and ref["kind"] == "finest":
-            L.append(f"  At eps = {eps:g} the path is smooth and the scatter is far above the solver's floor: it is "
-                     "discretisation error that does not decrease monotonically. It is not the contact edge's: only "
-                     "the rim node is on the plate. The scene's meshes keep the far field at 0.5 a whatever "
-                     "size_crater; refined there too (far field 4 size_crater), F~ changes by shrinking steps of one sign "
-                     "from 0.16 to 0.045 and then by 5e-7 (7e-6 relative) the other way on 0.035 (the section on A2 "
-                     "below). All meshes are far inside engineering accuracy. "
-                     + " ".join(f"{name}: mesh-to-mesh changes from {fmt(c['delta'][0], '.1e')} (coarsest) to "
-                                f"{fmt(c['delta'][-2], '.1e')} (finest pair), smallest {fmt(min(c['delta'][:-1]), '.1e')}, "
-                                f"{c['sign_changes']} sign changes, fitted order {fmt(c['fit'], '.1f')}."
-                                for name, c in (("V2/V0", ref["conv"]["V2_over_V0"]),
-                                                ("p2/pa", ref["conv"]["p2_over_pa"])))
-                     + " There is no asymptotic rate to quote: past size_crater ~0.09 the changes stop shrinking "
-                     "and scatter at the 1e-6 level.")
+            changes = " ".join(f"{name}: mesh-to-mesh changes from {fmt(c['delta'][0], '.1e')} (coarsest) to "
+                               f"{fmt(c['delta'][-2], '.1e')} (finest pair), smallest {fmt(min(c['delta'][:-1]), '.1e')}, "
+                               f"{c['sign_changes']} sign changes, fitted order {fmt(c['fit'], '.1f')}."
+                               for name, c in (("V2/V0", ref["conv"]["V2_over_V0"]),
+                                               ("p2/pa", ref["conv"]["p2_over_pa"])))
+            L.append(part("note-smooth", eps=eps, changes=changes).rstrip("\n"))
         if snapped or failed:
-            L.append(f"  At eps = {eps:g} the cycle passes instabilities (creases of the crater wall, detected by "
-                     "the tangent's inertia) and snaps, and which post-buckling state the path falls into depends "
-                     "on the mesh, on the surface energy and even on Newton's tolerances, so F~ does not converge "
-                     "with the mesh: the 'error' is the distance to one of several states, not a discretisation "
-                     "error. Any value at this preload is path dependent and should not be trusted to better than "
-                     "the spread above. The regulariser table shows the same sensitivity to the surface energy.")
+            L.append(part("note-unstable", eps=eps).rstrip("\n"))
     nonrep = [r for r in rows if r["study"] != "mpi2" and not r.get("reproducible", True)]
     L.append("* Repeated runs of a case gave " + ("bit-identical values in every case." if not nonrep else
              "different values for " + ", ".join(f"eps {r['eps']:g}/size {r['size_crater']:g}/g {r['surface_energy']:g}"
                                                  for r in nonrep) + "."))
-    return "\n".join(L) + "\n"
+    return "\n".join(L)
 
 
 if __name__ == "__main__":
