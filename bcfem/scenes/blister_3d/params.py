@@ -37,6 +37,17 @@ Units and normalisations (all inputs and outputs are dimensionless):
   N2_min         the least minor principal tension (membrane's plus gamma_l), over mu_f t0
   wrinkled_fraction  the area fraction where the taut membrane's minor tension is < 0
 
+With --edge adhesive the film beyond the outline is bonded to the substrate;
+debonding costs alpha + gamma_ls - dgamma per area (dgamma a number, stripes or
+a radial profile: --delta-gamma). The outline is held until the energy release
+rate G somewhere on it reaches that cost (delamination_onset in summary.json,
+with where: front_x, front_y); then, at --front-steps volumes up to --v-max, the
+front moves until G <= cost where it stays and G = cost where it moved (Griffith,
+no healing). Rows add G_max, G_mean, G_min and excess_* = G - cost over the
+outline (mu_f t0), R_front = sqrt(A_debonded / pi), front_R_min, front_R_max
+(the front's distances from the centroid) and front_residual; DIR/release.png
+is G / cost along the outline, DIR/front.png the front at each volume.
+
 With --wrinkles relaxed the membrane cannot carry compression (tension-field
 theory): where it would, it wrinkles along its major principal direction and
 contracts freely across it. The VTX file holds 'measures' (lambda_1, lambda_2,
