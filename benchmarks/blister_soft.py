@@ -13,8 +13,10 @@
 Usage (from the repository root)::
 
     .venv/bin/python benchmarks/blister_soft.py            # ~10 min on 2 cores
+    .venv/bin/python benchmarks/blister_soft.py --render-only   # the .md again from its CSV + JSON
 
-Writes ``docs/benchmarks/blister-soft.{csv,md,png}`` and the branches of the family in
+Writes ``docs/benchmarks/blister-soft.{csv,json,md,png}`` (the report is
+``benchmarks/templates/blister-soft.md`` filled from the CSV and JSON) and the branches of the family in
 ``docs/figures/blister_soft/`` (``fig4_5.csv``, ``fig4_5.png``, ``fig4_6.png``, ``fig4_7.png``).
 """
 
@@ -27,7 +29,21 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-from common import ROOT, atomic_text, csv_text, fmt, loadavg, run_worker
+from common import (
+    ROOT,
+    atomic_text,
+    csv_text,
+    emit,
+    fmt,
+    loadavg,
+    provenance,
+    provenance_note,
+    read_csv,
+    render,
+    run_worker,
+    table,
+    write_report,
+)
 
 OUT = ROOT / "docs" / "benchmarks"
 FIGURES = ROOT / "docs" / "figures" / "blister_soft"
@@ -37,7 +53,6 @@ STUDY_SIZE = 0.02  # the study's coarsest size at the contact line [R0]
 FRAME_VOLUMES = (0.5, 1.2, 2.0, 3.0, 3.5)  # Fig. 4.6: the first accepted point past each
 FRAME_EXTENT = 3.0  # the substrate's top drawn to R = 3 R0
 STUDY_VMAX = 1.5
-COMMAND = ".venv/bin/python benchmarks/blister_soft.py"
 
 
 def worker(case: dict) -> dict:
@@ -128,9 +143,15 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--levels", type=int, default=3, help="mesh levels of the study (refine 0 .. n-1)")
+    parser.add_argument("--render-only", action="store_true",
+                        help="render blister-soft.md again from the blister-soft.csv and .json that are there")
     args = parser.parse_args()
     if args.worker:
-        print("RESULT " + json.dumps(worker(json.loads(args.worker))))
+        emit(worker(json.loads(args.worker)))
+        return
+    if args.render_only:
+        write_report(OUT / "blister-soft.md", report(read_csv(OUT / "blister-soft.csv"),
+                                                      json.loads((OUT / "blister-soft.json").read_text())))
         return
     load = loadavg()
     # the Fig. 4.5 family, two at a time
@@ -168,35 +189,38 @@ def write(study, far, family, t_family, load) -> None:
     atomic_text(FIGURES / "fig4_5.csv", csv_text(fam_rows, ["ratio", "V_over_V0", "P", "aspect", "contact_angle_deg",
                                                            "indentation", "r1_over_R0"]))
     plot(rows, family)
-    L = ["# Benchmark: blister on a soft substrate (`blister-soft`)", "",
-         f"Command: `{COMMAND}` (load average before: {load}). Neo-Hookean membrane and substrate "
-         "(kappa/mu_s = 1e4), gamma_l = gamma_ls = dgamma = 0.5 mu_f t0, bonded edge, L = 10.", "",
-         "## P_max at mu_s R0/(mu_f t0) = 1 against mesh and wall time (one core each)", "",
-         f"Reference: Richardson from the two finest meshes with the "
-         f"{'observed' if len(P) >= 3 else 'assumed (two levels)'} order {order:.2f}: "
-         f"P_max = {reference:.8f}.", "",
-         "| refine | dofs | steps | wall time [s] | P_max | V/V0 at P_max | rel. error |",
-         "| --- | --- | --- | --- | --- | --- | --- |"]
-    for r in rows:
-        L.append(f"| {r['refine']} | {r['dofs']} | {r['steps']} | {r['t_solve']:.1f} | {r['P_max']:.8f} "
-                 f"| {r['V_at_P_max']:.5f} | {fmt(r['error'])} |")
-    Lfar = p_max(far)["P"]
-    L += ["", "## Far field", "",
-          f"Bottom fixed, far side on rollers (u_r = 0), axis u_r = 0. P_max with L = 20 instead of 10 (refine 0): "
-          f"{Lfar:.8f} against {P[0]:.8f}, a relative change of {abs(Lfar / P[0] - 1):.1e}.", "",
-          f"## The Fig. 4.5 family (to V/V0 = {FAMILY_VMAX}, refine 0, two solves at a time on 2 cores)", "",
-          f"Total wall time: {t_family:.0f} s.", "",
-          "| mu_s R0/(mu_f t0) | P_max | V/V0 at P_max | P_min | V/V0 at P_min | deepest indentation | at V/V0 "
-          "| wall time [s] |", "| --- | --- | --- | --- | --- | --- | --- | --- |"]
-    for r in family:
-        mx = p_max(r)
-        mn = next((lp for lp in r["limit_points"] if lp["kind"] == "min"), None)
-        d = deepest(r) if r["scene"] == "soft" else None
-        L.append(f"| {r.get('ratio', 'rigid')} | {mx['P']:.5f} | {mx['V_over_V0']:.4f} | "
-                 f"{fmt(mn and mn['P'], '.5f')} | {fmt(mn and mn['V_over_V0'], '.4f')} | "
-                 f"{fmt(d and d['depth'], '.5f')} | {fmt(d and d['V_over_V0'], '.4f')}"
-                 f"{'' if not d or d['interior'] else ' (end)'} | {r['t_solve']:.1f} |")
-    atomic_text(OUT / "blister-soft.md", "\n".join(L) + "\n")
+
+    def limit(r, kind):
+        return next((lp for lp in r["limit_points"] if lp["kind"] == kind), {})
+
+    summary = {"load": load, "order_kind": "observed" if len(P) >= 3 else "assumed (two levels)", "order": order,
+               "reference": reference, "far_P_max": p_max(far)["P"], "t_family": t_family,
+               "family": [{"ratio": r.get("ratio", "rigid"), "P_max": limit(r, "max")["P"],
+                           "V_at_P_max": limit(r, "max")["V_over_V0"], "P_min": limit(r, "min").get("P"),
+                           "V_at_P_min": limit(r, "min").get("V_over_V0"), "deepest": deepest(r) if r["scene"] == "soft"
+                           else None, "t_solve": r["t_solve"]} for r in family],
+               "provenance": provenance()}
+    atomic_text(OUT / "blister-soft.json", json.dumps(summary, indent=1) + "\n")
+    write_report(OUT / "blister-soft.md", report(rows, summary))
+
+
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: benchmarks/templates/blister-soft.md filled from the mesh study's rows
+    (CSV) and the summary (JSON: the reference, the far field, the family's limit points)."""
+    study = table(rows, [("refine", "{refine}"), ("dofs", "{dofs}"), ("steps", "{steps}"),
+                         ("wall time [s]", "{t_solve:.1f}"), ("P_max", "{P_max:.8f}"),
+                         ("V/V0 at P_max", "{V_at_P_max:.5f}"), ("rel. error", lambda r: fmt(r["error"]))], padded=True)
+    family = table(summary["family"], [
+        ("mu_s R0/(mu_f t0)", "{ratio}"), ("P_max", "{P_max:.5f}"), ("V/V0 at P_max", "{V_at_P_max:.4f}"),
+        ("P_min", lambda r: fmt(r["P_min"], ".5f")), ("V/V0 at P_min", lambda r: fmt(r["V_at_P_min"], ".4f")),
+        ("deepest indentation", lambda r: fmt(r["deepest"] and r["deepest"]["depth"], ".5f")),
+        ("at V/V0", lambda r: fmt(r["deepest"] and r["deepest"]["V_over_V0"], ".4f")
+         + ("" if not r["deepest"] or r["deepest"]["interior"] else " (end)")),
+        ("wall time [s]", "{t_solve:.1f}")], padded=True)
+    coarse = rows[0]["P_max"]
+    return render("blister-soft.md", rows, summary, study=study, family=family, coarse_P_max=coarse,
+                  far_change=abs(summary["far_P_max"] / coarse - 1), family_vmax=FAMILY_VMAX,
+                  provenance=provenance_note(summary))
 
 
 def plot(rows, family) -> None:

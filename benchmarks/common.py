@@ -350,10 +350,12 @@ class _Lookup(Mapping):
         return len(self.values)
 
 
-def table(rows: Sequence[Mapping], columns: Sequence[tuple[str, str | Callable]]) -> str:
+def table(rows: Sequence[Mapping], columns: Sequence[tuple[str, str | Callable]], padded: bool = False) -> str:
     """A Markdown table: ``columns`` are (header, how) with ``how`` a format string of the row's
-    fields (``"{cells}"``, ``"{err:.2e}"``) or a function of the row returning its text."""
-    lines = ["| " + " | ".join(h for h, _ in columns) + " |", "|" + "---|" * len(columns)]
+    fields (``"{cells}"``, ``"{err:.2e}"``) or a function of the row returning its text; ``padded``
+    writes the rule under the header as ``| --- |`` instead of ``|---|``."""
+    rule = "|" + (" --- |" if padded else "---|") * len(columns)
+    lines = ["| " + " | ".join(h for h, _ in columns) + " |", rule]
     for r in rows:
         cells = [how(r) if callable(how) else how.format(**r) for _, how in columns]
         lines.append("| " + " | ".join(cells) + " |")
