@@ -17,8 +17,10 @@ Usage (from the repository root)::
 
     .venv/bin/python benchmarks/crater_double.py        # the benchmark and the figure
     .venv/bin/python benchmarks/crater_double.py draw   # the figure again from fig9_10.json
+    .venv/bin/python benchmarks/crater_double.py --render-only   # the .md again from CSV + JSON
 
-Writes ``docs/benchmarks/crater-double.{csv,md,png}`` and
+Writes ``docs/benchmarks/crater-double.{csv,json,md,png}`` (the report is
+``benchmarks/templates/crater-double.md`` filled from them) and
 ``docs/figures/crater_double/fig9_10.{png,json}``.
 """
 
@@ -34,7 +36,20 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import ROOT, atomic_text, csv_text, fmt, loadavg, save_figure
+from common import (
+    ROOT,
+    atomic_text,
+    csv_text,
+    fmt,
+    loadavg,
+    provenance,
+    provenance_note,
+    read_csv,
+    render,
+    save_figure,
+    table,
+    write_report,
+)
 
 OUT = ROOT / "docs" / "benchmarks"
 FIGURES = ROOT / "docs" / "figures" / "crater_double"
@@ -144,41 +159,30 @@ def main() -> None:
     atomic_text(FIGURES / "fig9_10.json", json.dumps(numbers, indent=1) + "\n")
     draw()
     save_figure(error_figure(results), OUT / "crater-double.png")
-    table = "\n".join(
-        f"| {r['size_wall']} / {r['size_contact']} | {r['dofs']} | {r['eps_contact']:.6f} | {fmt(r['error_eps_contact'])}"
-        f" | {r['F_tilde']:.5f} | {fmt(r['error_F_tilde'])} | {r['p_c1_over_pa']:.5f} | {r['p_c2_over_pa']:.5f}"
-        f" | {int(r['newton_iterations'])} | {r['t_command_s']:.1f} | {r['t_solve_s']:.1f} |" for r in results)
-    orders = ", ".join(f"{k} {results[-1][f'order_{k}']:.2f}" for k in KEYS)
+    summary = {"load": loadavg(), "orders": {k: results[-1][f"order_{k}"] for k in KEYS}, "provenance": provenance()}
+    atomic_text(OUT / "crater-double.json", json.dumps(summary, indent=1) + "\n")
+    write_report(OUT / "crater-double.md", report(results, summary, numbers))
+
+
+def report(results: list[dict], summary: dict, numbers: dict) -> str:
+    """The Markdown report: benchmarks/templates/crater-double.md filled from the mesh study's rows
+    (CSV), the summary (JSON: load, observed orders, provenance) and the isolated and backed runs
+    (``fig9_10.json``)."""
+    rows = table(results, [
+        ("sizes wall / contact [H]", "{size_wall} / {size_contact}"), ("dofs", "{dofs}"),
+        ("eps_a", "{eps_contact:.6f}"), ("error", lambda r: fmt(r["error_eps_contact"])), ("F~", "{F_tilde:.5f}"),
+        ("error", lambda r: fmt(r["error_F_tilde"])), ("p_c1/p_a", "{p_c1_over_pa:.5f}"),
+        ("p_c2/p_a", "{p_c2_over_pa:.5f}"), ("Newton its", lambda r: f"{int(r['newton_iterations'])}"),
+        ("t_command [s]", "{t_command_s:.1f}"), ("t_solve [s]", "{t_solve_s:.1f}")])
     # engineering accuracy: F~ to 1e-3 of the full suction scale (A_c1 = A0, p_c1 = 0) and eps_a to 1e-5
     engineering = next((r for r in results if abs(r["error_F_tilde"]) < 1e-3 and abs(r["error_eps_contact"]) < 1e-5),
                        None)
     cheapest = (f"the {engineering['size_wall']} / {engineering['size_contact']} mesh, {engineering['t_command_s']:.0f} s "
                 "for the whole command on 2 ranks" if engineering else "none of these meshes")
-    atomic_text(OUT / "crater-double.md", f"""# crater-double: split strain and suction against wall time
-
-`{COMMAND}` (load average at the end: {loadavg()}). The dissertation's crater (r0 = 0.52 H,
-R0 = 0.5 H, s = 0.03 H, mu = p_a, air sealed at rest, sticking plate) in the cell of a confined
-array (outer radius 2 r0 on rollers, height 2 H), bonded contact, loaded to eps = 0.02 and
-unloaded to 0; `mpirun -n 2`, warm JIT cache. Errors against the Richardson value of the two
-finest meshes at the observed order ({orders}; clipped to [1, 4]). t_command is the whole command,
-t_solve the scene's solve.
-
-| sizes wall / contact [H] | dofs | eps_a | error | F~ | error | p_c1/p_a | p_c2/p_a | Newton its | t_command [s] | t_solve [s] |
-|---|---|---|---|---|---|---|---|---|---|---|
-{table}
-
-One cycle at engineering accuracy (|error| of F~ below 1e-3, of eps_a below 1e-5): {cheapest}.
-
-The dissertation's design as an isolated specimen (`bcfem run crater-double --contact bonded`, the
-defaults, preload 0.14): no split (eps_a: {isolated['eps_contact']}), p up to
-{numbers['isolated']['p_max_over_pa']:.4f} p_a, back to {isolated['p_c1_over_pa']:.6f} p_a at eps = 0;
-{isolated['dofs']} dofs, {isolated['wall_time_s']:.0f} s solve, {t_isolated:.0f} s command on 2 ranks.
-
-On a rigid backing (`bcfem run crater-double {' '.join(BACKED)}`): eps_a =
-{backed['eps_contact']:.5f}; at eps = 0 after the cycle p_c1 = {backed['p_c1_over_pa']:.5f} p_a,
-p_c2 = {backed['p_c2_over_pa']:.5f} p_a, F~ = {backed['F_tilde']:.5f}; {backed['dofs']} dofs,
-{backed['wall_time_s']:.0f} s solve, {t_backed:.0f} s command on 2 ranks.
-""")
+    return render("crater-double.md", results, summary, table=rows, cheapest=cheapest,
+                  orders=", ".join(f"{k} {v:.2f}" for k, v in summary["orders"].items()),
+                  isolated=numbers["isolated"], backed=numbers["backed"], backed_flags=" ".join(BACKED),
+                  provenance=provenance_note(summary))
 
 
 def draw() -> None:
@@ -206,5 +210,9 @@ def error_figure(results):
 if __name__ == "__main__":
     if sys.argv[1:] == ["draw"]:
         draw()
+    elif sys.argv[1:] == ["--render-only"]:
+        write_report(OUT / "crater-double.md", report(read_csv(OUT / "crater-double.csv"),
+                                                       json.loads((OUT / "crater-double.json").read_text()),
+                                                       json.loads((FIGURES / "fig9_10.json").read_text())))
     else:
         main()
