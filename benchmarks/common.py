@@ -163,7 +163,7 @@ def csv_text(rows, columns) -> str:
     w = csv.DictWriter(buf, fieldnames=columns, extrasaction="ignore", lineterminator="\n")
     w.writeheader()
     for r in rows:
-        w.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in r.items()})
+        w.writerow({k: (repr(float(v)) if isinstance(v, float) else v) for k, v in r.items()})  # not np.float64(..)
     return buf.getvalue()
 
 

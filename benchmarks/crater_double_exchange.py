@@ -18,19 +18,34 @@ Serial, in process (loading only: Fig. 9.9 needs no unloading), a few minutes.
 Usage (from the repository root)::
 
     .venv/bin/python benchmarks/crater_double_exchange.py
+    .venv/bin/python benchmarks/crater_double_exchange.py --render-only   # the .md again from CSV + JSON
 
-Writes ``docs/benchmarks/crater-double-exchange.{csv,md,png}``.
+Writes ``docs/benchmarks/crater-double-exchange.{csv,json,md,png}``; the report is
+``benchmarks/templates/crater-double-exchange.md`` filled from the CSV and the JSON.
 """
 
 from __future__ import annotations
 
+import json
 import math
+import sys
 import time
 from dataclasses import replace
 
 from mpi4py import MPI
 
-from common import ROOT, atomic_text, csv_text, save_figure
+from common import (
+    ROOT,
+    atomic_text,
+    csv_text,
+    provenance,
+    provenance_note,
+    read_csv,
+    render,
+    save_figure,
+    table,
+    write_report,
+)
 
 from bcfem.run.runner import solve
 from bcfem.scenes.crater_double import Params
@@ -104,26 +119,36 @@ def main() -> None:
     one = rows[0]
     atomic_text(OUT / "crater-double-exchange.csv", csv_text(rows, COLUMNS))
     save_figure(figure(rows, one, two), OUT / "crater-double-exchange.png")
+    summary = {"pair": {k: v for k, v in pair.items() if k != "probe"}, "provenance": provenance()}
+    atomic_text(OUT / "crater-double-exchange.json", json.dumps(summary, indent=1, default=float) + "\n")
+    write_report(OUT / "crater-double-exchange.md", report(rows, summary))
+
+
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: benchmarks/templates/crater-double-exchange.md filled from the rows
+    (CSV: Model 1 first, then Model 2, the last of which is the reference) and the node pair (JSON)."""
+    one = rows[0]
+    two = [r for r in rows if r["model"] in (2, "2")][-1]
     span_p, span_v = two["dp_over_pa"] - one["dp_over_pa"], two["dV_over_V"] - one["dV_over_V"]
-    lines = [
-        "# Fig. 9.9: the membrane model against C_V (`--chambers membrane`)", "",
-        f"Produced by `{COMMAND}`. The dissertation's crater, isolated specimen (5 r0 × 5 H), sticking plate, "
-        f"mesh {BASE['size_wall']}/{BASE['size_contact']}, loaded to ε_z = {BASE['preload']} (strain step {BASE_STEP}). "
-        f"Node pair ({pair['definition']}): Z_w = {pair['Z_sidewall']:.4f} H on the sidewall, "
-        f"Z_b = {pair['Z_protuberance']:.4f} H on the protuberance, probe ε_a = {pair['eps_a']:g}. "
-        "'to 1' and 'to 2': the distance from Model 1 and Model 2 over the distance between them.", "",
-        "| model | C_V | μ_m t/(μ H) | strain step | (p_c1 − p_c2)/p_a | (V_c1 − V_c2)/V0 | to 1 (p) | to 2 (p) "
-        "| to 1 (V) | to 2 (V) | mass conservation | s |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in rows:
-        to = [(r["dp_over_pa"] - one["dp_over_pa"]) / span_p, (r["dp_over_pa"] - two["dp_over_pa"]) / span_p,
-              (r["dV_over_V"] - one["dV_over_V"]) / span_v, (r["dV_over_V"] - two["dV_over_V"]) / span_v]
-        lines.append(f"| {r['model']} | {r['C_V']:g} | {r['membrane_stiffness']:g} | {r['strain_step']:g} "
-                     f"| {r['dp_over_pa']:.6f} | {r['dV_over_V']:.6f} | " + " | ".join(f"{t:+.2e}" for t in to)
-                     + f" | {r['mass_conservation']:.1e} | {r['t_solve_s']:.0f} |")
-    lines += ["", "![Fig. 9.9](crater-double-exchange.png)", ""]
-    atomic_text(OUT / "crater-double-exchange.md", "\n".join(lines))
+
+    def to(key: str, model: dict, span: float):
+        return lambda r: f"{(r[key] - model[key]) / span:+.2e}"
+
+    text = table(rows, [
+        ("model", "{model}"), ("C_V", "{C_V:g}"), ("μ_m t/(μ H)", "{membrane_stiffness:g}"),
+        ("strain step", "{strain_step:g}"), ("(p_c1 − p_c2)/p_a", "{dp_over_pa:.6f}"),
+        ("(V_c1 − V_c2)/V0", "{dV_over_V:.6f}"), ("to 1 (p)", to("dp_over_pa", one, span_p)),
+        ("to 2 (p)", to("dp_over_pa", two, span_p)), ("to 1 (V)", to("dV_over_V", one, span_v)),
+        ("to 2 (V)", to("dV_over_V", two, span_v)), ("mass conservation", "{mass_conservation:.1e}"),
+        ("s", "{t_solve_s:.0f}")])
+    return render("crater-double-exchange.md", rows, summary, table=text, size_wall=BASE["size_wall"],
+                  size_contact=BASE["size_contact"], preload=BASE["preload"], strain_step=BASE_STEP,
+                  provenance=provenance_note(summary))
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["--render-only"]:
+        write_report(OUT / "crater-double-exchange.md", report(
+            read_csv(OUT / "crater-double-exchange.csv"), json.loads((OUT / "crater-double-exchange.json").read_text())))
+    else:
+        main()
