@@ -226,5 +226,7 @@ def check_resolved(value, element: float, flag: str, where: str) -> None:
 
 
 def checked_values(value) -> tuple:
-    """The numbers a bound must admit: the value, or the values a profile names."""
-    return value.values if isinstance(value, RadialProfile) else (value,)
+    """The numbers a bound must admit: the value, or the values a profile (or another pattern
+    with a tuple ``values``, such as blister-3d's stripes) names."""
+    values = getattr(value, "values", None)
+    return values if isinstance(values, tuple) else (value,)

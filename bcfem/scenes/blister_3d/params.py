@@ -91,8 +91,8 @@ class Params:
         "adhesive edge: dgamma / (mu_f t0), the film-substrate adhesion (debonding a unit area costs "
         "alpha + gamma_ls - dgamma > 0): a number, stripes:PERIOD:LOW:HIGH (a cosine in x), or a "
         "profile of the distance from the centroid as blister-rigid's --adhesion takes it "
-        "(step:R_s:inner:outer[:width], ramp:..., table:FILE[:width]); lengths over R0"),
-        "parse": parse_pattern})
+        "(step:R_s:inner:outer[:width], ramp:..., table:FILE[:width]); lengths over R0",
+        bound=Bound(0, 1e4)), "parse": parse_pattern})
     front_steps: int = field(default=8, metadata=describe(
         "adhesive edge: volumes from the onset to --v-max at which the front is moved to equilibrium "
         "(0: stop at the onset)", bound=Bound(0, 200, integer=True)))
@@ -124,8 +124,6 @@ class Params:
         require(self.aspect == 1.0 or self.outline in ("ellipse", "rectangle"),
                 f"--aspect applies to an ellipse or a rectangle (got --outline {self.outline})")
         dgamma = values_of(self.delta_gamma)
-        require(all(isinstance(v, int | float) and 0 <= v <= 1e4 for v in dgamma),
-                f"--delta-gamma takes values in [0, 10000] (got {self.delta_gamma})")
         require(not varies(self.delta_gamma) or self.edge == "adhesive",
                 "--delta-gamma takes a pattern with --edge adhesive only")
         if isinstance(self.delta_gamma, RadialProfile):
