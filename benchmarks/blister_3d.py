@@ -27,13 +27,14 @@ from common import (
     mpirun_bcfem,
     provenance,
     provenance_note,
-    read_csv,
     render,
+    render_again,
     richardson,
     save_figure,
     table,
     wait_idle,
     write_report,
+    write_summary,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -107,8 +108,7 @@ def main() -> None:
     parser.add_argument("--render-only", action="store_true",
                         help="render blister-3d.md again from the blister-3d.csv and .json that are there")
     if parser.parse_args().render_only:
-        write_report(OUT / "blister-3d.md", report(read_csv(OUT / "blister-3d.csv"),
-                                                    json.loads((OUT / "blister-3d.json").read_text())))
+        render_again("blister-3d", report)
         return
     waited, busy = wait_idle(600)
     load = f"{busy:.1f} cores busy after {waited:.0f} s of waiting; load average {loadavg()}"
@@ -124,7 +124,7 @@ def main() -> None:
     summary = {"reference": reference, "machine": f"{load} (times on a busy machine are upper bounds)",
                "provenance": provenance()}
     atomic_text(OUT / "blister-3d.csv", csv_text(rows, COLUMNS))
-    atomic_text(OUT / "blister-3d.json", json.dumps(summary, indent=1) + "\n")
+    write_summary("blister-3d", summary)
     write_report(OUT / "blister-3d.md", report(rows, summary))
     figure(rows)
 

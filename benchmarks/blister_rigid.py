@@ -56,14 +56,15 @@ from common import (  # noqa: E402
     pinned,
     provenance,
     provenance_note,
-    read_csv,
     render,
+    render_again,
     richardson,
     run_worker,
     save_figure,
     table,
     worker_prologue,
     write_report,
+    write_summary,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -190,8 +191,7 @@ def main(argv=None):
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.render_only:
-        write_report(OUT / "blister-rigid.md", report(read_csv(OUT / "blister-rigid.csv"),
-                                                       json.loads((OUT / "blister-rigid.json").read_text())))
+        render_again("blister-rigid", report)
         return
     CELLS[:] = sorted(args.cells)
     REF_CELLS[:] = CELLS[-2:]
@@ -352,7 +352,7 @@ def write_outputs(rows, ref, args):
     save_figure(fig, OUT / "blister-rigid.png")
     summary = {"ref": {k: v for k, v in ref.items() if k != "grid"}, "repeats": args.repeats, "cells": CELLS,
                "load": list(args.load), "cpu": cpu_name(), "bcfem": git_state(), "provenance": provenance()}
-    atomic_text(OUT / "blister-rigid.json", json.dumps(summary, indent=1) + "\n")
+    write_summary("blister-rigid", summary)
     write_report(OUT / "blister-rigid.md", report(rows, summary))
 
 

@@ -38,11 +38,12 @@ from common import (
     loadavg,
     provenance,
     provenance_note,
-    read_csv,
     render,
+    render_again,
     run_worker,
     table,
     write_report,
+    write_summary,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -150,8 +151,7 @@ def main() -> None:
         emit(worker(json.loads(args.worker)))
         return
     if args.render_only:
-        write_report(OUT / "blister-soft.md", report(read_csv(OUT / "blister-soft.csv"),
-                                                      json.loads((OUT / "blister-soft.json").read_text())))
+        render_again("blister-soft", report)
         return
     load = loadavg()
     # the Fig. 4.5 family, two at a time
@@ -200,7 +200,7 @@ def write(study, far, family, t_family, load) -> None:
                            "V_at_P_min": limit(r, "min").get("V_over_V0"), "deepest": deepest(r) if r["scene"] == "soft"
                            else None, "t_solve": r["t_solve"]} for r in family],
                "provenance": provenance()}
-    atomic_text(OUT / "blister-soft.json", json.dumps(summary, indent=1) + "\n")
+    write_summary("blister-soft", summary)
     write_report(OUT / "blister-soft.md", report(rows, summary))
 
 

@@ -25,6 +25,7 @@ from bcfem.path.roots import bracketed_root  # dolfinx-free
 
 ROOT = Path(__file__).resolve().parents[1]
 TEMPLATES = Path(__file__).resolve().parent / "templates"
+REPORTS = ROOT / "docs" / "benchmarks"  # <name>.csv, .json, .md, .png of each benchmark
 
 # ----------------------------------------------------------------------------------------
 # machine pinning and the worker protocol
@@ -409,3 +410,16 @@ def read_csv(path: Path) -> list[dict]:
 def write_report(path: Path, text: str) -> None:
     """Write a rendered report atomically, ending in one newline."""
     atomic_text(path, text.rstrip("\n") + "\n")
+
+
+def write_summary(name: str, summary: Mapping) -> None:
+    """docs/benchmarks/<name>.json: what a report needs beside the CSV (references, settings,
+    provenance)."""
+    atomic_text(REPORTS / f"{name}.json", json.dumps(summary, indent=1, default=float) + "\n")
+
+
+def render_again(name: str, report: Callable[[list[dict], dict], str]) -> None:
+    """``--render-only``: docs/benchmarks/<name>.md rendered again by ``report(rows, summary)`` from
+    the <name>.csv and <name>.json that are there; nothing is run."""
+    summary = json.loads((REPORTS / f"{name}.json").read_text())
+    write_report(REPORTS / f"{name}.md", report(read_csv(REPORTS / f"{name}.csv"), summary))

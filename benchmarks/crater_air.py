@@ -68,15 +68,16 @@ from common import (  # noqa: E402
     pinned,
     provenance,
     provenance_note,
-    read_csv,
     reference,
     render,
+    render_again,
     save_figure,
     table,
     wait_idle,
     worker_prologue,
     worker_result,
     write_report,
+    write_summary,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -272,8 +273,7 @@ def main(argv=None):
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.render_only:
-        write_report(OUT / "crater-air.md", report(read_csv(OUT / "crater-air.csv"),
-                                                    json.loads((OUT / "crater-air.json").read_text())))
+        render_again("crater-air", report)
         return
     global CORE
     CORE = args.core
@@ -457,7 +457,7 @@ def write_outputs(rows, refs, mpi, args):
                "git_end": args.git_end, "lib_hash_end": args.lib_hash_end, "cpu": cpu_name(), "cores": os.cpu_count(),
                "mpi": [{k: m[k] for k in ("size_crater", "times", "load", "engineering")} for m in mpi],
                "provenance": provenance()}
-    atomic_text(OUT / "crater-air.json", json.dumps(summary, indent=1) + "\n")
+    write_summary("crater-air", summary)
     write_report(OUT / "crater-air.md", report(rows, summary))
 
 

@@ -44,11 +44,12 @@ from common import (
     loadavg,
     provenance,
     provenance_note,
-    read_csv,
     render,
+    render_again,
     save_figure,
     table,
     write_report,
+    write_summary,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -160,7 +161,7 @@ def main() -> None:
     draw()
     save_figure(error_figure(results), OUT / "crater-double.png")
     summary = {"load": loadavg(), "orders": {k: results[-1][f"order_{k}"] for k in KEYS}, "provenance": provenance()}
-    atomic_text(OUT / "crater-double.json", json.dumps(summary, indent=1) + "\n")
+    write_summary("crater-double", summary)
     write_report(OUT / "crater-double.md", report(results, summary, numbers))
 
 
@@ -211,8 +212,7 @@ if __name__ == "__main__":
     if sys.argv[1:] == ["draw"]:
         draw()
     elif sys.argv[1:] == ["--render-only"]:
-        write_report(OUT / "crater-double.md", report(read_csv(OUT / "crater-double.csv"),
-                                                       json.loads((OUT / "crater-double.json").read_text()),
-                                                       json.loads((FIGURES / "fig9_10.json").read_text())))
+        numbers = json.loads((FIGURES / "fig9_10.json").read_text())
+        render_again("crater-double", lambda rows, summary: report(rows, summary, numbers))
     else:
         main()

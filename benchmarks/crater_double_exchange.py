@@ -26,7 +26,6 @@ Writes ``docs/benchmarks/crater-double-exchange.{csv,json,md,png}``; the report 
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 import time
@@ -40,11 +39,12 @@ from common import (
     csv_text,
     provenance,
     provenance_note,
-    read_csv,
     render,
+    render_again,
     save_figure,
     table,
     write_report,
+    write_summary,
 )
 
 from bcfem.run.runner import solve
@@ -120,7 +120,7 @@ def main() -> None:
     atomic_text(OUT / "crater-double-exchange.csv", csv_text(rows, COLUMNS))
     save_figure(figure(rows, one, two), OUT / "crater-double-exchange.png")
     summary = {"pair": {k: v for k, v in pair.items() if k != "probe"}, "provenance": provenance()}
-    atomic_text(OUT / "crater-double-exchange.json", json.dumps(summary, indent=1, default=float) + "\n")
+    write_summary("crater-double-exchange", summary)
     write_report(OUT / "crater-double-exchange.md", report(rows, summary))
 
 
@@ -148,7 +148,6 @@ def report(rows: list[dict], summary: dict) -> str:
 
 if __name__ == "__main__":
     if sys.argv[1:] == ["--render-only"]:
-        write_report(OUT / "crater-double-exchange.md", report(
-            read_csv(OUT / "crater-double-exchange.csv"), json.loads((OUT / "crater-double-exchange.json").read_text())))
+        render_again("crater-double-exchange", report)
     else:
         main()

@@ -44,10 +44,11 @@ from common import (
     loadavg,
     provenance,
     provenance_note,
-    read_csv,
     render,
+    render_again,
     table,
     write_report,
+    write_summary,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -107,15 +108,14 @@ def report(rows: list[dict], summary: dict) -> str:
 
 def main() -> None:
     if sys.argv[1:2] == ["--render-only"]:
-        write_report(OUT / "droplet-soft.md", report(read_csv(OUT / "droplet-soft.csv"),
-                                                      json.loads((OUT / "droplet-soft.json").read_text())))
+        render_again("droplet-soft", report)
         return
     run("half-space", 2, 0)  # warm the JIT cache
     rows = [run(case, degree, refine) for case in CASES for degree, refines in MESHES.items() for refine in refines]
     OUT.mkdir(parents=True, exist_ok=True)
     summary = {"load": loadavg(), "provenance": provenance()}
     atomic_text(OUT / "droplet-soft.csv", csv_text(rows, COLUMNS))
-    atomic_text(OUT / "droplet-soft.json", json.dumps(summary, indent=1) + "\n")
+    write_summary("droplet-soft", summary)
     text = report(rows, summary)
     write_report(OUT / "droplet-soft.md", text)
     fig = figure(rows)
