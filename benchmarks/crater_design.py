@@ -34,19 +34,28 @@ from common import (
     atomic_text,
     busy_cores,
     csv_text,
+    emit,
     fmt,
     mpirun_bcfem,
+    provenance,
+    provenance_note,
     reference,
+    render,
+    render_again,
     run_worker,
     save_figure,
+    table,
     wait_idle,
+    worker_prologue,
+    write_report,
+    write_summary,
 )
 
 from bcfem.scenes.crater.params import PRELOAD_TO_CLOSURE  # dolfinx-free
 
 OUT = ROOT / "docs" / "benchmarks"
 MAPS = ROOT / "docs" / "figures" / "crater_design" / "sweeps"
-COMMAND = ".venv/bin/python benchmarks/crater_design.py"
+TEMPLATE = "crater-design.md"
 POINTS = {
     "air, alpha 0.7, beta 1, full closure (Fig. 7.9)": dict(alpha=0.7, beta=1.0, preload=PRELOAD_TO_CLOSURE),
     "liquid, hemisphere, eps 0.25 (Fig. 8.4)": dict(fluid="liquid", alpha=1.0, preload=0.25),
@@ -59,13 +68,11 @@ COLUMNS = ["point", "size_crater", "status", "dofs", "F_tilde", "F_hat", "error"
 
 
 def worker(case: dict) -> dict:
-    import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
     from mpi4py import MPI
 
-    from bcfem.log import configure
+    worker_prologue()
     from bcfem.scenes import crater
 
-    configure(MPI.COMM_WORLD, quiet=True)
     out = {**case, "status": "ok", "reason": ""}
     try:
         _, s = crater.solve(crater.Params(**case["params"], size_crater=case["size_crater"]), MPI.COMM_WORLD)
@@ -81,7 +88,12 @@ def main() -> None:
     ap.add_argument("--sizes", type=float, nargs="+", default=SIZES)
     ap.add_argument("--two-ranks", nargs="+", default=[], metavar="MAP",
                     help="solve these maps again on 2 ranks, timed and compared with the kept points ('all': every map)")
+    ap.add_argument("--render-only", action="store_true",
+                    help="render crater-design.md again from the crater-design.csv and .json that are there")
     args = ap.parse_args()
+    if args.render_only:
+        render_again("crater-design", report)
+        return
     known = sorted(p.parent.name for p in MAPS.glob("*/sweep.csv"))
     if unknown := sorted(set(args.two_ranks) - set(known) - {"all"}):
         ap.error(f"--two-ranks: no kept map {', '.join(unknown)} (allowed: all, {', '.join(known)})")
@@ -184,75 +196,77 @@ def write(rows, refs, timings, wall, load) -> None:
     fig.tight_layout()
     save_figure(fig, OUT / "crater-design.png")
     plt.close(fig)
-    atomic_text(OUT / "crater-design.md", markdown(rows, refs, timings, wall, load))
+    summary = {"wall_s": wall, "busy": load, "maps": timings, "provenance": provenance()}
+    write_summary("crater-design", summary)
+    write_report(OUT / "crater-design.md", report(rows, summary))
 
 
-def markdown(rows, refs, timings, wall, load) -> str:
-    L = ["# Benchmark: the crater design space (scene `crater`, `demos/crater_design.py`)", "",
-         f"Regenerate with `{COMMAND}` (or `make bench`; {wall / 60:.1f} min for the mesh study). The map table "
-         "reads each map's sweep directory (`docs/figures/crater_design/sweeps/<map>/`).", "",
-         "## Published maps: cost on 2 ranks", "",
-         "Each map is one `mpirun -n 2 bcfem sweep crater ...` command (listed in `docs/craters.md`); "
-         "the points are spread over the ranks, each a serial cycle. `core-s` is the sum of the points' own "
-         "solve times (each point records it, so a map finished over several interrupted runs is counted in "
-         "full; `timed` says how many points carry a time: points solved before this was recorded have none); "
-         "`est. wall on 2 ranks` = core-s / 2, the wall time of one run with the points evenly shared "
-         "(the slowest point bounds it from below). `measured on 2 ranks`: the map solved again from nothing by "
-         f"its command on `mpirun -n 2` (`{COMMAND} --two-ranks MAP`), its wall time and the largest relative "
-         "difference of its F~ from the kept points (the sweep is rank-count invariant). `last run`: the "
-         "`timing.json` of the run that finished the map (points solved / reused, ranks, wall time).", "",
-         "| map | points | failed | timed | core-s | core-s per point | slowest point [s] | est. wall on 2 ranks [min] "
-         "| measured on 2 ranks: wall [min], max dF~/F~ | last run: solved / reused, ranks, wall [s] |",
-         "|---|---|---|---|---|---|---|---|---|---|"]
-    for t in timings:
-        last = t["last_run"]
-        run = "-" if last["wall_time_s"] is None else f"{last['solved']} / {last['reused']}, {last['ranks']}, {last['wall_time_s']:.0f}"
-        timed = [f"{t['core_seconds']:.0f}", f"{t['core_seconds'] / t['timed']:.1f}", f"{t['slowest_point_s']:.0f}",
-                 f"{t['core_seconds'] / 120:.1f}" + ("" if t["timed"] == t["points"] else " (timed points)")] \
-            if t["timed"] else ["-"] * 4
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: benchmarks/templates/crater-design.md filled from the mesh study's rows
+    (CSV; the references are recomputed from them) and the summary (JSON: the maps' costs as they
+    were read, the study's wall time, the busy cores)."""
+    timings = summary["maps"]
+
+    def timed(t, i):
+        if not t["timed"]:
+            return "-"
+        return [f"{t['core_seconds']:.0f}", f"{t['core_seconds'] / t['timed']:.1f}", f"{t['slowest_point_s']:.0f}",
+                f"{t['core_seconds'] / 120:.1f}" + ("" if t["timed"] == t["points"] else " (timed points)")][i]
+
+    def measured(t):
         two = t["two_ranks"]
-        measured = "-" if two is None else (f"{two['wall_time_s'] / 60:.1f}, {two['max_rel_diff_F_tilde']:.0e}"
-                                            + ("" if two["same_status"] else ", status differs"))
-        L.append(f"| {t['map']} | {t['points']} | {t['failed']} | {t['timed']} | {' | '.join(timed)} | {measured} "
-                 f"| {run} |")
+        return "-" if two is None else (f"{two['wall_time_s'] / 60:.1f}, {two['max_rel_diff_F_tilde']:.0e}"
+                                        + ("" if two["same_status"] else ", status differs"))
+
+    def last(t):
+        run = t["last_run"]
+        return "-" if run["wall_time_s"] is None else \
+            f"{run['solved']} / {run['reused']}, {run['ranks']}, {run['wall_time_s']:.0f}"
+
+    maps_table = table(timings, [
+        ("map", "{map}"), ("points", "{points}"), ("failed", "{failed}"), ("timed", "{timed}"),
+        *[(head, lambda t, i=i: timed(t, i)) for i, head in enumerate(
+            ("core-s", "core-s per point", "slowest point [s]", "est. wall on 2 ranks [min]"))],
+        ("measured on 2 ranks: wall [min], max dF~/F~", measured),
+        ("last run: solved / reused, ranks, wall [s]", last)])
+    maps_total = ""
     if timings:
         total = sum(t["core_seconds"] for t in timings)
         untimed = sum(t["points"] - t["timed"] for t in timings)
-        L += ["", f"All timed points: {total / 3600:.2f} core-hours, {total / 120:.0f} min on 2 ranks"
-              + (f"; {untimed} points carry no time and are not counted (their maps' `last run` column "
-                 "gives the wall time of the run that solved them, where it solved them all)" if untimed else "")
-              + "."]
-    L += ["", "## Mesh convergence of F~ at three representative points", "",
-          "One cycle per mesh in a fresh process on one core (`size_crater` = element size at the crater / a; "
-          "P2-P1 Taylor-Hood). The error is |F~/F~_ref - 1|; F^ = F~/beta has the same relative error. "
-          f"Other processes kept {load[0]} cores busy at the start (after waiting up to 5 min for an idle "
-          f"machine) and {load[1]} at the end (above 0.2, they shared the two cores and the times are inflated).", ""]
-    for name, ref in refs.items():
-        L += [f"### {name}", ""]
-        if ref is None:
-            L += ["every mesh failed", ""]
+        maps_total = ("\n" + f"All timed points: {total / 3600:.2f} core-hours, {total / 120:.0f} min on 2 ranks"
+                      + (f"; {untimed} points carry no time and are not counted (their maps' `last run` column "
+                         "gives the wall time of the run that solved them, where it solved them all)" if untimed else "")
+                      + ".\n")
+    points = []
+    for name in POINTS:
+        series = [r for r in rows if r["point"] == name and r["status"] == "ok"]
+        if not series:
+            points.append(render(TEMPLATE, rows, summary, section="point-failed", name=name))
             continue
+        ref = reference(series)
         if ref["kind"] == "richardson":
-            L.append(f"Reference F~ = {ref['F']:.6f}: Richardson extrapolation with the observed order "
-                     f"p = {ref['order']:.2f}.")
+            text = f"Reference F~ = {ref['F']:.6f}: Richardson extrapolation with the observed order p = {ref['order']:.2f}."
         else:
-            L.append(f"Reference F~ = {ref['F']:.6f}: the finest mesh (size {ref['finest']:g}); the meshes do not "
-                     "converge monotonically, so errors are relative to that mesh, not to the exact value.")
-        L += ["", "| size_crater | dofs | F~ | rel. error | A2/A0 | eps | stability | wall [s] |",
-              "|---|---|---|---|---|---|---|---|"]
-        for r in (r for r in rows if r["point"] == name):
-            if r["status"] != "ok":
-                L.append(f"| {r['size_crater']:g} | | failed: {r['reason'][:80]} | | | | | |")
-                continue
-            L.append(f"| {r['size_crater']:g} | {r['dofs']} | {r['F_tilde']:.5f} | {fmt(r.get('error'))} | "
-                     f"{r['A2_over_A0']:.4f} | {r['preload']:.4f} | {r['stability']} | {r['wall_time_s']:.1f} |")
-        L.append("")
-    return "\n".join(L) + "\n"
+            text = (f"Reference F~ = {ref['F']:.6f}: the finest mesh (size {ref['finest']:g}); the meshes do not "
+                    "converge monotonically, so errors are relative to that mesh, not to the exact value.")
+
+        def ok(how):
+            return lambda r: how(r) if r["status"] == "ok" else ""
+
+        mesh = table([r for r in rows if r["point"] == name], [
+            ("size_crater", "{size_crater:g}"), ("dofs", ok(lambda r: f"{r['dofs']}")),
+            ("F~", lambda r: f"{r['F_tilde']:.5f}" if r["status"] == "ok" else f"failed: {r['reason'][:80]}"),
+            ("rel. error", ok(lambda r: fmt(r.get("error")))), ("A2/A0", ok(lambda r: f"{r['A2_over_A0']:.4f}")),
+            ("eps", ok(lambda r: f"{r['preload']:.4f}")), ("stability", ok(lambda r: f"{r['stability']}")),
+            ("wall [s]", ok(lambda r: f"{r['wall_time_s']:.1f}"))])
+        points.append(render(TEMPLATE, rows, summary, section="point", name=name, reference=text, table=mesh))
+    return render(TEMPLATE, rows, summary, wall_min=summary["wall_s"] / 60, load_start=summary["busy"][0],
+                  load_end=summary["busy"][1], maps_table=maps_table, maps_total=maps_total,
+                  points="".join(points).rstrip("\n") + "\n", provenance=provenance_note(summary))
 
 
 if __name__ == "__main__":
     if len(sys.argv) > 2 and sys.argv[1] == "--worker":
-        T = time.perf_counter()
-        print("RESULT " + json.dumps(worker(json.loads(sys.argv[2]))), flush=True)
+        emit(worker(json.loads(sys.argv[2])))
     else:
         main()
