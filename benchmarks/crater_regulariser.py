@@ -18,7 +18,9 @@ relative change of F~ for each halving and for the halved step, and for each of 
 preloads where it stays below 1 %.
 
 Run from the repository root: `.venv/bin/python benchmarks/crater_regulariser.py`
-(part of `make bench`; about 20 min on 2 cores from nothing, seconds when the points are kept).
+(part of `make bench`; about 20 min on 2 cores from nothing, seconds when the points are kept);
+`--render-only` renders the .md again from its CSV and JSON (the report is
+`benchmarks/templates/crater-regulariser.md`).
 """
 
 from __future__ import annotations
@@ -29,11 +31,24 @@ import math
 import sys
 import time
 
-from common import ROOT, atomic_text, csv_text, fmt, mpirun_bcfem, save_figure
+from common import (
+    ROOT,
+    atomic_text,
+    csv_text,
+    fmt,
+    mpirun_bcfem,
+    provenance,
+    provenance_note,
+    render,
+    render_again,
+    save_figure,
+    table,
+    write_report,
+    write_summary,
+)
 
 OUT = ROOT / "docs" / "benchmarks"
 SWEEPS = OUT / "crater-regulariser"
-COMMAND = ".venv/bin/python benchmarks/crater_regulariser.py"
 PRELOADS = "0:0.5:0.025"  # Fig. 7.6
 BAR = 0.01  # halving a regulariser changes F~ by less than 1 %
 DEFAULT = "gamma=0.01"
@@ -69,7 +84,8 @@ def change(a: dict | None, b: dict | None) -> float:
     return abs(fb / fa - 1) if fa else abs(fb)
 
 
-def table() -> list[dict]:
+def per_preload() -> list[dict]:
+    """One row per preload: F~, unstable modes and stability of every series, and the changes."""
     data = {name: points(name) for name in SERIES}
     rows = []
     for eps in sorted(data[DEFAULT]):
@@ -121,17 +137,24 @@ def main() -> None:
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--ranks", type=int, default=2, help="MPI ranks of each sweep (points are spread over them)")
+    ap.add_argument("--render-only", action="store_true",
+                    help="render crater-regulariser.md again from the crater-regulariser.csv and .json that are there")
     args = ap.parse_args()
+    if args.render_only:
+        render_again("crater-regulariser", report)
+        return
     if args.ranks < 1:
         ap.error(f"--ranks must be a positive integer (got {args.ranks})")
     t0 = time.perf_counter()
     for name in SERIES:
         sweep(name, args.ranks)
-    rows = table()
+    rows = per_preload()
     halving_keys = [f"halving {c} -> {f}" for c, f in HALVINGS]
     atomic_text(OUT / "crater-regulariser.csv", csv_text(rows, list(rows[0])))
     plot(rows, halving_keys)
-    atomic_text(OUT / "crater-regulariser.md", markdown(rows, halving_keys, time.perf_counter() - t0))
+    summary = {"wall_s": time.perf_counter() - t0, "core_seconds": core_seconds(), "provenance": provenance()}
+    write_summary("crater-regulariser", summary)
+    write_report(OUT / "crater-regulariser.md", report(rows, summary))
     print(f"wrote {OUT / 'crater-regulariser.md'}", file=sys.stderr)
 
 
@@ -163,42 +186,35 @@ def plot(rows, halving_keys) -> None:
     plt.close(fig)
 
 
-def markdown(rows, halving_keys, wall) -> str:
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: benchmarks/templates/crater-regulariser.md filled from the rows (CSV, one
+    per preload) and the summary (JSON: the run's wall time and the kept points' core-seconds)."""
     names = list(SERIES)
-    result = [f"* Halving gamma {k.replace('halving ', '').replace('gamma=', '')}: below 1 % for eps <= "
-              f"{fmt(holds_up_to(rows, k), 'g') or 'none'}; at the preloads {passing(rows, k)}." for k in halving_keys]
-    path_eps = holds_up_to(rows, "step halved")
-    L = ["# Benchmark: the creasing regulariser over the preload range (scene `crater`)", "",
-         f"Regenerate with `{COMMAND}` (or `make bench`; this run took {wall / 60:.1f} min, kept points are "
-         f"not solved again; solving all of them took {core_seconds() / 3600:.2f} core-hours). Each series is one `bcfem sweep crater --preload 0:0.5:0.025 ...` on the default "
-         "mesh (hemisphere, beta = mu/p_a = 0.467), kept in `docs/benchmarks/crater-regulariser/<series>/`; "
-         "`gamma` is the wall's surface energy gamma/(mu a), the creasing regulariser, and `half-step` the "
-         "default gamma with half the load step (`--strain-step 0.00625`): the same model on another path.", "",
-         "## Result", "",
-         "The bar: halving the regulariser changes F~ by less than 1 %.", "",
-         *result,
-         f"* The same model (gamma 0.01) with half the load step: F~ within 1 % for eps <= {fmt(path_eps, 'g') or 'none'}"
-         f" (at {passing(rows, 'step halved')}). Where the two differ, the two paths end in different equilibria of one "
-         "and the same energy (the numbers in brackets below: the unstable axisymmetric modes of each end state, "
-         "0 = stable), so F~ there is not fixed by the parameters, and a change under halving gamma measures which "
-         "equilibrium the path reaches as much as a regularisation error.", "",
-         "## F~ per series (unstable axisymmetric modes of the end state in brackets)", "",
-         "| eps | " + " | ".join(names) + " | stability (default) |",
-         "|---|" + "---|" * (len(names) + 1)]
-    for r in rows:
-        cells = [f"{r[f'F_tilde[{n}]']:.4f} ({r[f'unstable[{n}]']})" if not math.isnan(r[f"F_tilde[{n}]"])
-                 else r[f"stability[{n}]"] for n in names]
-        L.append(f"| {r['eps']:g} | " + " | ".join(cells) + f" | {r[f'stability[{DEFAULT}]']} |")
-    L += ["", "## Relative change of F~", "",
-          "| eps | " + " | ".join(k.replace("halving ", "") for k in halving_keys)
-          + f" | step halved (gamma 0.01) | {LIMIT_KEY} |",
-          "|---|" + "---|" * (len(halving_keys) + 2)]
-    for r in rows:
-        cells = [fmt(r[k], ".1e") or "-" for k in halving_keys + ["step halved", LIMIT_KEY]]
-        cells = [f"**{c}**" if c != "-" and float(c) >= BAR else c for c in cells]
-        L.append(f"| {r['eps']:g} | " + " | ".join(cells) + " |")
-    L += ["", "Bold: 1 % or more. `-`: a point failed in one of the two series.", ""]
-    return "\n".join(L) + "\n"
+    halving_keys = [f"halving {c} -> {f}" for c, f in HALVINGS]
+    halvings = "\n".join(f"* Halving gamma {k.replace('halving ', '').replace('gamma=', '')}: below 1 % for eps <= "
+                         f"{fmt(holds_up_to(rows, k), 'g') or 'none'}; at the preloads {passing(rows, k)}."
+                         for k in halving_keys)
+
+    def series(n):
+        return lambda r: (f"{r[f'F_tilde[{n}]']:.4f} ({r[f'unstable[{n}]']})" if not math.isnan(r[f"F_tilde[{n}]"])
+                          else r[f"stability[{n}]"])
+
+    series_table = table(rows, [("eps", "{eps:g}"), *[(n, series(n)) for n in names],
+                                ("stability (default)", lambda r: r[f"stability[{DEFAULT}]"])])
+
+    def changed(k):
+        def cell(r):
+            c = fmt(r[k], ".1e") or "-"
+            return f"**{c}**" if c != "-" and float(c) >= BAR else c
+        return cell
+
+    change_table = table(rows, [("eps", "{eps:g}"), *[(k.replace("halving ", ""), changed(k)) for k in halving_keys],
+                                ("step halved (gamma 0.01)", changed("step halved")), (LIMIT_KEY, changed(LIMIT_KEY))])
+    return render("crater-regulariser.md", rows, summary, wall_min=summary["wall_s"] / 60,
+                  core_hours=summary["core_seconds"] / 3600, halvings=halvings,
+                  path_eps=fmt(holds_up_to(rows, "step halved"), "g") or "none",
+                  path_passing=passing(rows, "step halved"), series_table=series_table, change_table=change_table,
+                  provenance=provenance_note(summary))
 
 
 if __name__ == "__main__":
