@@ -40,7 +40,7 @@ from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.physics.linear_solid import LinearDropLoads, LinearElasticity, LinearSurfaceTension, SubstrateKinematics
 from bcfem.physics.materials import NearlyIncompressibleNeoHookean
 from bcfem.physics.sessile_drop import SphericalCapDrop, cap_volume
-from bcfem.run.scene import Scene
+from bcfem.run.stages import Stage, StagedScene
 from bcfem.scenes.droplet_soft.params import COLUMNS, Params
 
 #: the three tensions' run-time constants and the Params fields of their targets
@@ -65,11 +65,12 @@ def profile_radii(width: float) -> np.ndarray:
     return np.unique(np.concatenate([np.linspace(0.0, width, 401), 1.0 - near, 1.0 + near, [1.0]]))
 
 
-class DropletSoft(Scene):
-    """The droplet-soft scene (:mod:`bcfem.run.runner` solves it)."""
+class DropletSoft(StagedScene):
+    """The droplet-soft scene: its model, and one stage (:meth:`plan`): ``solve`` (linear) or
+    ``load`` (the neo-Hookean substrate, the drop's tension ramped to full)."""
 
     name = "droplet-soft"
-    stages = ("solve", "load")
+    stage_names = ("solve", "load")
     columns = COLUMNS
 
     def __init__(self, params: Params, comm):
@@ -204,30 +205,44 @@ class DropletSoft(Scene):
                 for R, (ur, uz) in zip(radii, u)]
 
     # -- the scene contract -------------------------------------------------------------------
-    def solve(self, run) -> None:
+    @property
+    def model(self):
+        """The scene is its own model (its context, terms and conditions)."""
+        return self
+
+    @property
+    def problem_options(self) -> dict:
+        return dict(energy_scale=self.energy_scale)
+
+    def setup(self, run) -> None:
         run.watch([self.u])
-        p = self.params
-        kwargs = dict(energy_scale=self.energy_scale)
-        if p.model == "linear":
-            with run.stage("solve", self.ctx, self.terms, self.bcs, **kwargs) as problem:
-                if not problem.solve():
-                    raise SteppingError(f"solve: the linear system did not converge ({problem.failure})", 0.0)
-                run.record(self.observe(1.0, problem.iterations))
-        else:
-            self.set_load(0.0)
-            with run.stage("load", self.ctx, self.terms, self.bcs, **kwargs) as problem:
-                path = LoadPath(problem, self.set_load, "load", check_stability=False, load_name="load")
-                path.start()
-                run.record(self.observe(0.0, 0))
-                try:
-                    path.through(0.0, 1.0, p.load_step,
-                                 lambda load: run.record(self.observe(load, problem.iterations)))
-                    if p.control == "neumann":
-                        self._hold_neumann(run, problem)
-                finally:
-                    self._finish(run)
-                return
-        self._finish(run)
+
+    def plan(self) -> list[Stage]:
+        if self.params.model == "linear":
+            return [Stage("solve", terms=lambda: self.terms, drive=self._solve_linear, ends="after one solve")]
+        return [Stage("load", enter=lambda: self.set_load(0.0), terms=lambda: self.terms, drive=self._load,
+                      ends="at full load; with --control neumann, at the drop volume that zeroes the "
+                           "Neumann misfit")]
+
+    def _solve_linear(self, problem, run) -> None:
+        try:
+            if not problem.solve():
+                raise SteppingError(f"solve: the linear system did not converge ({problem.failure})", 0.0)
+            run.record(self.observe(1.0, problem.iterations))
+        finally:
+            self._finish(run)
+
+    def _load(self, problem, run) -> None:
+        path = LoadPath(problem, self.set_load, "load", check_stability=False, load_name="load")
+        path.start()
+        run.record(self.observe(0.0, 0))
+        try:
+            path.through(0.0, 1.0, self.params.load_step,
+                         lambda load: run.record(self.observe(load, problem.iterations)))
+            if self.params.control == "neumann":
+                self._hold_neumann(run, problem)
+        finally:
+            self._finish(run)
 
     def _hold_neumann(self, run, problem, factor: float = 0.85, steps: int = 14) -> None:
         """The drop volume at full load where ``neumann_misfit`` changes sign: march the volume by
