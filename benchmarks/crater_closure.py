@@ -11,7 +11,8 @@ end-of-unloading pressure drop -dp reaches 0.83 p_a, interpolated linearly betwe
 The dissertation: eps_m = 0.47, eps_c = 0.43 (section 7.2.4).
 
 Run from the repository root: `.venv/bin/python benchmarks/crater_closure.py [NAME ...]`
-(names: the variants' keys; none: all of them, about 40 min on one core).
+(names: the variants' keys; none: all of them, about 40 min on one core); `--render-only` renders
+the .md again from the CSV (the report is `benchmarks/templates/crater-closure.md`).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from dataclasses import replace
 
 from mpi4py import MPI
 
-from common import ROOT, atomic_text, csv_text
+from common import ROOT, atomic_text, csv_text, render, table, write_report
 
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem.io import read_csv
@@ -192,27 +193,23 @@ def _against(value, name: str) -> str:
 
 
 def markdown(rows: list[dict]) -> str:
-    lines = ["# The hemisphere's closure against the dissertation's model",
-             "",
-             "`.venv/bin/python benchmarks/crater_closure.py`: each row is `bcfem run crater --preload closure`",
-             f"with the changes shown (the dissertation: eps_m = {DISSERTATION['eps_m']}, eps_c = "
-             f"{DISSERTATION['eps_c']}). eps_m: V1 <= 1e-3 V0 on the",
-             "stable path; F~ after unloading; eps_c: the end-of-unloading -dp reaches 0.83 p_a (cycles 0.025",
-             "apart, linear between); a failed path gives its last converged preload. The wall time",
-             "includes eps_c's cycles.",
-             "",
-             "| variant | eps_m (against 0.47) | eps_c (against 0.43) | F~ | status | wall time [s] | command |",
-             "|---|---|---|---|---|---|---|"]
-    for r in rows:
-        eps_m, eps_c = _number(r["eps_m"]), _number(r.get("eps_c"))
-        shown = _against(eps_m, "eps_m") if eps_m is not None else f"— (last {float(r['last_eps']):.4f})"
-        force = "—" if _number(r["F_tilde"]) is None else f"{_number(r['F_tilde']):.3f}"
-        lines.append(f"| {r['change']} | {shown} | {_against(eps_c, 'eps_c')} | {force} | {r['status']} | "
-                     f"{float(r['wall_time_s']):.0f} | `{r.get('command') or command(r['variant'])}` |")
-    return "\n".join(lines) + "\n"
+    """The report: benchmarks/templates/crater-closure.md filled from the rows (the CSV)."""
+    def shown(r):
+        eps_m = _number(r["eps_m"])
+        return _against(eps_m, "eps_m") if eps_m is not None else f"— (last {float(r['last_eps']):.4f})"
+
+    columns = [("variant", "{change}"), ("eps_m (against 0.47)", shown),
+               ("eps_c (against 0.43)", lambda r: _against(_number(r.get("eps_c")), "eps_c")),
+               ("F~", lambda r: "—" if _number(r["F_tilde"]) is None else f"{_number(r['F_tilde']):.3f}"),
+               ("status", "{status}"), ("wall time [s]", lambda r: f"{float(r['wall_time_s']):.0f}"),
+               ("command", lambda r: f"`{r.get('command') or command(r['variant'])}`")]
+    return render("crater-closure.md", rows, {}, dissertation=DISSERTATION, table=table(rows, columns))
 
 
 def main(names: list[str]) -> None:
+    if names == ["--render-only"]:  # the .md again from the CSV, nothing solved
+        write_report(OUT / "crater-closure.md", markdown(read_csv(OUT / "crater-closure.csv")))
+        return
     configure(MPI.COMM_SELF, quiet=True)
     unknown = [n for n in names if n not in VARIANTS]
     if unknown:
@@ -226,7 +223,7 @@ def main(names: list[str]) -> None:
               f"{r['wall_time_s']:.0f} s", flush=True)
         rows = [kept[n] for n in VARIANTS if n in kept]  # written as each variant ends
         atomic_text(path, csv_text(rows, COLUMNS))
-        atomic_text(OUT / "crater-closure.md", markdown(rows))
+        write_report(OUT / "crater-closure.md", markdown(rows))
 
 
 if __name__ == "__main__":
