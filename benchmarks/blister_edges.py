@@ -37,20 +37,28 @@ import argparse  # noqa: E402
 import json  # noqa: E402
 import math  # noqa: E402
 import sys  # noqa: E402
-from pathlib import Path  # noqa: E402
 
 from common import (  # noqa: E402
     ROOT,
     atomic_text,
     count_newton,
+    cpu_name,
     csv_text,
     emit,
     fmt,
+    git_state,
     loadavg,
+    provenance,
+    provenance_note,
+    render,
+    render_again,
     richardson,
     run_worker,
     save_figure,
+    table,
     worker_prologue,
+    write_report,
+    write_summary,
 )
 
 OUT = ROOT / "docs" / "benchmarks"
@@ -69,7 +77,7 @@ ORDER = 4  # observed for P2 (and 2 for P1): Vc is fixed by dPi/dR1, an energy-l
 # (start_volume, v_max) of the slippery start study at P2/80; start_volume 0: the scene default
 SLIPPERY_STARTS = [(0.0, 1.0), (0.0, 0.45), (0.05, 1.0), (0.1, 1.0), (0.2, 1.0), (0.25, 1.0), (0.3, 1.0),
                    (0.4, 1.0), (0.5, 1.0), (0.6, 1.0)]
-COMMAND = ".venv/bin/python benchmarks/blister_edges.py"
+TEMPLATE = "blister-edges.md"
 
 
 # ----------------------------------------------------------------------------------------
@@ -137,8 +145,13 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeats", type=int, default=2, help="warm runs per case (the best time is kept)")
     ap.add_argument("--core", default="0", help="the core the solves are pinned to (taskset -c)")
+    ap.add_argument("--render-only", action="store_true",
+                    help="render blister-edges.md again from the blister-edges.csv and .json that are there")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.render_only:
+        render_again("blister-edges", report)
+        return
     global CORE
     CORE = args.core
     if args.worker:
@@ -171,18 +184,7 @@ def main(argv=None):
             rows.append({"study": "convergence", **r})
             log(f"{name:22s} P2 {cells:5d} energy: {r['status']} Vc={r.get('Vc')!r} {r['t_solve']:.3f} s")
 
-    # references: Richardson on the two finest P2 event values; its uncertainty from the next pair
-    refs = {}
-    for name in CASES:
-        vc = {r["cells"]: r["Vc"] for r in rows if r["case"] == name and r["degree"] == 2
-              and r["method"] == "event" and r["status"] == "ok"}
-        n = CELLS[2]
-        ref = richardson(vc[n[-2]], vc[n[-1]], ORDER)
-        refs[name] = {"Vc": ref, "floor": abs(richardson(vc[n[-3]], vc[n[-2]], ORDER) - ref),
-                      "correction": abs(ref - vc[n[-1]]),
-                      "observed_order": [math.log2(abs(vc[a] - vc[b]) / abs(vc[b] - vc[c]))
-                                         for a, b, c in zip(n, n[1:], n[2:]) if vc[b] != vc[c]],
-                      "dissertation": CASES[name][2]}
+    refs = references(rows)
     for r in rows:
         is_ref = r["degree"] == 2 and r["method"] == "event" and r["cells"] == CELLS[2][-1]
         r["err"] = math.nan if is_ref or r["status"] != "ok" else abs(r["Vc"] - refs[r["case"]]["Vc"]) / refs[r["case"]]["Vc"]
@@ -209,6 +211,23 @@ COLUMNS = ["study", "case", "method", "degree", "cells", "dofs", "start_volume",
 
 
 
+
+
+def references(rows) -> dict:
+    """Per case: Richardson on the two finest P2 event values (``Vc``), its uncertainty from the
+    next-coarser pair (``floor``), the correction, the observed P2 orders and the dissertation's Vc."""
+    refs = {}
+    for name in CASES:
+        vc = {r["cells"]: r["Vc"] for r in rows if r["study"] == "convergence" and r["case"] == name
+              and r["degree"] == 2 and r["method"] == "event" and r["status"] == "ok"}
+        n = CELLS[2]
+        ref = richardson(vc[n[-2]], vc[n[-1]], ORDER)
+        refs[name] = {"Vc": ref, "floor": abs(richardson(vc[n[-3]], vc[n[-2]], ORDER) - ref),
+                      "correction": abs(ref - vc[n[-1]]),
+                      "observed_order": [math.log2(abs(vc[a] - vc[b]) / abs(vc[b] - vc[c]))
+                                         for a, b, c in zip(n, n[1:], n[2:]) if vc[b] != vc[c]],
+                      "dissertation": CASES[name][2]}
+    return refs
 
 
 def series(rows, name, degree, method):
@@ -247,118 +266,80 @@ def write_outputs(rows, refs, args):
     fig.tight_layout()
     save_figure(fig, OUT / "blister-edges.png")
     plt.close(fig)
-    atomic_text(OUT / "blister-edges.md", markdown(rows, refs, args))
+    summary = {"repeats": args.repeats, "core": args.core, "load": args.load, "wall_s": args.wall, "cpu": cpu_name(),
+               "bcfem": git_state(), "provenance": provenance()}
+    write_summary("blister-edges", summary)
+    write_report(OUT / "blister-edges.md", report(rows, summary))
 
 
-def markdown(rows, refs, args) -> str:
-    sys.path.insert(0, str(Path(__file__).parent))
-    from common import cpu_name, git_state
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: benchmarks/templates/blister-edges.md filled from the rows (CSV; the
+    references are recomputed from them) and the summary (JSON: settings, load, CPU, commit)."""
+    refs = references(rows)
+    references_ = table(list(refs.items()), [
+        ("case", lambda c: TITLES[c[0]]), ("v_max", lambda c: f"{CASES[c[0]][0]['v_max']:g}"),
+        ("Vc reference [V0]", lambda c: f"{c[1]['Vc']:.12f}"), ("uncertainty", lambda c: f"{c[1]['floor']:.1e}"),
+        ("Richardson correction", lambda c: f"{c[1]['correction']:.1e}"),
+        ("observed P2 orders", lambda c: ", ".join(f"{o:.2f}" for o in c[1]["observed_order"])),
+        ("dissertation", lambda c: f"{c[1]['dissertation']:.2f}"),
+        ("difference", lambda c: f"{100 * (c[1]['Vc'] / c[1]['dissertation'] - 1):+.1f} %")])
 
-    L = ["# Benchmark: delamination onset of the adhesive and slippery blister edges", "",
-         f"Regenerate with `{COMMAND}` from the repository root (or `make bench`); {args.wall / 60:.0f} min. "
-         f"Timings are the best of {args.repeats} warm runs, each in a fresh process pinned to one core "
-         f"(`taskset -c {args.core}`, `OMP_NUM_THREADS=1`); `cpu` is the process CPU time of the same solve "
-         f"(load average {args.load[0]} at the start, {args.load[1]} at the end). Measured on `{cpu_name()}`, "
-         f"bcfem from `{git_state()}`.", "",
-         "## What is measured", "",
-         "The onset volume Vc of delamination, for alpha = gamma_l/(mu t0) = 0.5 and "
-         "(gamma_ls - dgamma)/(mu t0) = 2.5 (dissertation section 3.2.3):", "",
-         "* **event**: `branch_of(build(params))`; Vc is the located sign change of dPi/dR1 along the arc-length "
-         "branch (the `delamination onset` event, located by Brent to `event_tol`). Time = `Params()` + `build()` "
-         "+ the whole trace to `v_max` (start, every step, event and end location).",
-         "* **energy**: `blister_studies.onset_by_energy(params, bracket)`; Brent on "
-         "F(V, R0 + h) = F(V, R0 - h), h = 1e-4, by volume control with the debond radius held. Independent "
-         "of the transversality row. P2 only.",
-         f"* **reference**: Richardson extrapolation (order {ORDER}) of the P2 event values on the two finest "
-         f"meshes ({CELLS[2][-2]} and {CELLS[2][-1]} cells); P2/{CELLS[2][-1]} itself has no error entry. "
-         "Its uncertainty is the change of the extrapolation when the next-coarser pair is used.", "",
-         "| case | v_max | Vc reference [V0] | uncertainty | Richardson correction | observed P2 orders "
-         "| dissertation | difference |", "|---|---|---|---|---|---|---|---|"]
-    for name, ref in refs.items():
-        fields = CASES[name][0]
-        L.append(f"| {TITLES[name]} | {fields['v_max']:g} | {ref['Vc']:.12f} | {ref['floor']:.1e} "
-                 f"| {ref['correction']:.1e} | {', '.join(f'{o:.2f}' for o in ref['observed_order'])} "
-                 f"| {ref['dissertation']:.2f} | {100 * (ref['Vc'] / ref['dissertation'] - 1):+.1f} % |")
-    L += ["", "The observed orders are log2 of successive differences of the P2 event values (no reference "
-          "involved); they stay near 4 until the differences reach the event-location and solver floor "
-          "(~1e-11). The slippery case is started with `start_volume = 0.3` (the start converges at V/V0 ~ 0.18) "
-          "and traced down to `v_start` and up to 0.45; its mesh has 2 x cells (the blister and the sliding "
-          "annulus out to 4 R0), and its trace, with the backward part, has about three times the steps of the "
-          "adhesive one.", ""]
-
+    cases = []
     for name in CASES:
-        L += [f"## {TITLES[name]}", "",
-              "| deg | method | cells | dofs | Vc [V0] | rel. error | rate | t_solve [s] | cpu [s] | process [s] "
-              "| steps | Newton its |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        runs = []
         for (degree, method) in ((1, "event"), (2, "event"), (2, "energy")):
-            rs = sorted((r for r in rows if r["study"] == "convergence" and r["case"] == name
-                         and r["degree"] == degree and r["method"] == method), key=lambda r: r["cells"])
-            for r in rs:
-                if r["status"] != "ok":
-                    L.append(f"| P{degree} | {method} | {r['cells']} | {r['dofs']} | failed: {r['reason'][:90]} "
-                             f"| | | {r['t_solve']:.3f} | | | | |")
-                    continue
-                prev = next((q for q in rs if q["cells"] * 2 == r["cells"] and q["status"] == "ok"), None)
-                rate = (fmt(math.log2(prev["err"] / r["err"]), ".2f")
-                        if prev and r["err"] > 0 and not math.isnan(r["err"]) and not math.isnan(prev["err"]) else "")
-                L.append(f"| P{degree} | {method} | {r['cells']} | {r['dofs']} | {r['Vc']:.12f} "
-                         f"| {fmt(r['err']) or 'ref'} | {rate} | {r['t_solve']:.3f} | {r['c_solve']:.3f} "
-                         f"| {r['t_process']:.2f} | {r.get('steps', '')} | {r['its']} |")
-        L.append("")
+            runs += sorted((r for r in rows if r["study"] == "convergence" and r["case"] == name
+                            and r["degree"] == degree and r["method"] == method), key=lambda r: r["cells"])
+
+        def rate(r):
+            prev = next((q for q in runs if q["degree"] == r["degree"] and q["method"] == r["method"]
+                         and q["cells"] * 2 == r["cells"] and q["status"] == "ok"), None)
+            return (fmt(math.log2(prev["err"] / r["err"]), ".2f")
+                    if prev and r["err"] > 0 and not math.isnan(r["err"]) and not math.isnan(prev["err"]) else "")
+
+        def ok(how):
+            return lambda r: how(r) if r["status"] == "ok" else ""
+
+        mesh = table(runs, [
+            ("deg", "P{degree}"), ("method", "{method}"), ("cells", "{cells}"), ("dofs", "{dofs}"),
+            ("Vc [V0]", lambda r: f"{r['Vc']:.12f}" if r["status"] == "ok" else f"failed: {r['reason'][:90]}"),
+            ("rel. error", ok(lambda r: fmt(r["err"]) or "ref")), ("rate", ok(rate)), ("t_solve [s]", "{t_solve:.3f}"),
+            ("cpu [s]", ok(lambda r: f"{r['c_solve']:.3f}")), ("process [s]", ok(lambda r: f"{r['t_process']:.2f}")),
+            ("steps", ok(lambda r: f"{'' if r.get('steps') is None else r['steps']}")),
+            ("Newton its", ok(lambda r: f"{r['its']}"))])
         fastest = {}
         for tol in (1e-4, 1e-6, 1e-8):
-            ok = [r for r in rows if r["study"] == "convergence" and r["case"] == name and r["status"] == "ok"
-                  and not math.isnan(r["err"]) and r["err"] < tol]
-            if ok:
-                best = min(ok, key=lambda r: r["t_solve"])
+            good = [r for r in rows if r["study"] == "convergence" and r["case"] == name and r["status"] == "ok"
+                    and not math.isnan(r["err"]) and r["err"] < tol]
+            if good:
+                best = min(good, key=lambda r: r["t_solve"])
                 fastest[tol] = f"P{best['degree']}/{best['cells']} {best['method']} ({best['t_solve']:.2f} s)"
-        L += ["Fastest run below a relative error of " + "; ".join(f"{t:g}: {v}" for t, v in fastest.items())
-              + ".", ""]
+        cases.append(render(TEMPLATE, rows, summary, section="case", title=TITLES[name], table=mesh,
+                            fastest="; ".join(f"{t:g}: {v}" for t, v in fastest.items())))
 
-    L += ["## The slippery edge and its start volume", "",
-          "The slippery film is pulled inwards at small volume (the front r1 moves in and the film beyond it "
-          "is compressed in hoop, N_theta < 0, which membrane theory allows; the dissertation notes the "
-          "compression, Fig. 3.19, and leaves wrinkling out). A cap-shaped guess at small volume converges "
-          "to a state with *negative* pressure on a different, compressed branch; the scene therefore starts "
-          "at `start_volume` (default 0.3, but at most v_max/2) and traces down to `v_start` and up to `v_max`. "
-          "P2, 80 cells. `V_start` is the volume of the converged start point (the start row fixes the "
-          "amplitude of the guessed cap shape, not the volume):", "",
-          "| start_volume | v_max | outcome | Vc [V0] | V_start [V0] | min N_theta/(mu t0) | message |",
-          "|---|---|---|---|---|---|---|"]
     ref_slip = refs["slippery-gent"]["Vc"]
     study = [q for q in rows if q["study"] == "slippery_start"]
     for r in study:
         r["outcome"] = r["status"]
         if r["status"] == "ok" and abs(r["Vc"] / ref_slip - 1) > 1e-6:
             r["outcome"] = "wrong onset"
-        start = r["start_volume"] or f"default ({min(0.3, 0.5 * r['v_max']):g})"
-        outcome = f"**{r['outcome']}**" if r["outcome"] == "wrong onset" else r["outcome"]
-        L.append(f"| {start} | {r['v_max']:g} | {outcome} | {fmt(r.get('Vc'), '.6f')} | {fmt(r.get('V_start'), '.4f')} "
-                 f"| {fmt(r.get('N_theta_min'), '.3f')} | {r['reason'][:160]} |")
+    starts = table(study, [
+        ("start_volume", lambda r: f"{r['start_volume']}" if r["start_volume"]
+         else f"default ({min(0.3, 0.5 * r['v_max']):g})"),
+        ("v_max", "{v_max:g}"),
+        ("outcome", lambda r: f"**{r['outcome']}**" if r["outcome"] == "wrong onset" else r["outcome"]),
+        ("Vc [V0]", lambda r: fmt(r.get("Vc"), ".6f")), ("V_start [V0]", lambda r: fmt(r.get("V_start"), ".4f")),
+        ("min N_theta/(mu t0)", lambda r: fmt(r.get("N_theta_min"), ".3f")),
+        ("message", lambda r: (r["reason"] or "")[:160])])
     by = {o: [q for q in study if q["outcome"] == o] for o in ("ok", "failed", "wrong onset")}
     label = lambda q: f"{q['start_volume'] or 'default'} (v_max {q['v_max']:g})"  # noqa: E731
-    L += ["", "Outcomes: right onset from " + ", ".join(map(label, by["ok"])) + "; compressed branch (stopped at "
-          "once by the guard's negative pressure) from " + (", ".join(map(label, by["failed"])) or "none")
-          + "; a wrong onset, with no error, from " + (", ".join(map(label, by["wrong onset"])) or "none") + ".",
-          "",
-          f"A start converged below the onset ({ref_slip:.4f} V0) gives the right answer. A start converged *above* "
-          "it does not: the backward trace runs without the onset switch, so the edge stays held there, and the "
-          "forward trace fires the switch at its first point, so Vc is reported at (just past) the start volume. "
-          "A start guessed too small converges to the compressed, negative-pressure state. The working window of "
-          "`start_volume` is narrow (0.3-0.4 here), and the scene default min(0.3, v_max/2) leaves it when "
-          "v_max < 0.6. Once started right, the slippery onset is as well resolved as the adhesive one "
-          "(P2 order 4, both methods agree), and the hoop traction is compressive from the smallest volumes "
-          "on (min N_theta above). The dissertation's 0.35 V0 is "
-          f"{100 * (0.35 / ref_slip - 1):+.0f} % from ours.", "",
-          "## The energy method's floor", "",
-          "`onset_by_energy` compares F at R0 +- h with h = 1e-4: its central difference has an O(h^2) bias, "
-          "about 5e-9 relative for the Gent case here (1e-3: 5e-7; 1e-5: 2e-10), which is where its errors level "
-          "off. Below that, the event of the traced branch is the accurate method; above it, the energy method is "
-          "cheaper (it needs no arc-length branch).", "",
-          "## The sliding edge", "",
-          "No onset to measure: the sliding edge moves from the start (its contact line obeys the Young-type "
-          "condition eq. 3.61 at every volume), so it is not part of this benchmark.", ""]
-    return "\n".join(L) + "\n"
+    return render(TEMPLATE, rows, summary, wall_min=summary["wall_s"] / 60, load_start=summary["load"][0],
+                  load_end=summary["load"][1], provenance=provenance_note(summary), order=ORDER,
+                  ref_coarse=CELLS[2][-2], ref_fine=CELLS[2][-1], references=references_, cases="".join(cases),
+                  starts=starts, right=", ".join(map(label, by["ok"])),
+                  compressed=", ".join(map(label, by["failed"])) or "none",
+                  wrong=", ".join(map(label, by["wrong onset"])) or "none", slippery_vc=ref_slip,
+                  slippery_vs_dissertation=100 * (0.35 / ref_slip - 1))
 
 
 if __name__ == "__main__":
