@@ -20,7 +20,9 @@ An end state of the stable path lies on the fundamental branch where their F~ ag
 1e-6); the paths part at the stable path's first snap on loading. Sweeps are kept and
 resumable; the two single runs are redone each time (about 2 min).
 
-Run from the repository root: `.venv/bin/python benchmarks/crater_paths.py`.
+Run from the repository root: `.venv/bin/python benchmarks/crater_paths.py`; `--render-only` writes its
+section of docs/benchmarks/crater-air.md again from the kept summary.json (the section's prose is
+`benchmarks/templates/crater-air-paths.md`).
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ import math
 import subprocess
 import sys
 
-from common import ROOT, atomic_text, csv_text, mpirun_bcfem, put_section, save_figure
+from common import ROOT, atomic_text, csv_text, mpirun_bcfem, put_section, render, save_figure, table
 
 OUT = ROOT / "docs" / "figures" / "crater_paths"
 REGULARISER = ROOT / "docs" / "benchmarks" / "crater-regulariser"
@@ -103,29 +105,19 @@ def edge_rule_effect() -> list[dict]:
 
 
 def cost_section(summary: dict) -> str:
-    """The fundamental branch's cost, for docs/benchmarks/crater-air.md."""
+    """The fundamental branch's cost, for docs/benchmarks/crater-air.md: the template
+    benchmarks/templates/crater-air-paths.md filled from the summary and the sweep's points."""
     points = sorted((json.loads(p.read_text()) for p in (OUT / "fundamental" / "points").glob("*.json")),
                     key=lambda r: float(r["preload"]))
-    lines = ["## The fundamental branch (`--path fundamental`)", "",
-             "Regenerate with `.venv/bin/python benchmarks/crater_paths.py` (figure and tables: "
-             "`docs/figures/crater_paths/`). One rank, default mesh (2230 dofs), `bcfem run crater --path "
-             "fundamental --preload closure`: arc-length in the platen displacement, steps of at most "
-             "`strain_step` = 0.0125 in the strain-like norm, the unstable modes counted at every point.", "",
-             "| stage | points | Newton its | failed steps | jumps rejected | trace time [s] |",
-             "|---|---|---|---|---|---|"]
-    for stage, c in summary["fundamental_continuation"].items():
-        lines.append(f"| {stage} | {c['points']} | {c['newton_iterations']} | {c['failed_steps']} | "
-                     f"{c['jumps_rejected']} | {c['wall_time_s']:.1f} |")
+    stages = table(list(summary["fundamental_continuation"].items()), [
+        ("stage", lambda sc: sc[0]), ("points", lambda sc: f"{sc[1]['points']}"),
+        ("Newton its", lambda sc: f"{sc[1]['newton_iterations']}"), ("failed steps", lambda sc: f"{sc[1]['failed_steps']}"),
+        ("jumps rejected", lambda sc: f"{sc[1]['jumps_rejected']}"),
+        ("trace time [s]", lambda sc: f"{sc[1]['wall_time_s']:.1f}")])
     folds = ", ".join(f"{f['kind']} {f['eps']:.5f} (V/V0 = {f['V_over_V0']:.4f})" for f in summary["fundamental_folds"])
-    lines += ["", f"Whole run: {summary['fundamental_wall_time_s']:.1f} s. Folds of eps on loading: {folds}. "
-              f"The branch ends: {summary['fundamental_end']}.", "",
-              "Per preload of the sweep (both stages; 2 ranks, one point per rank): "
-              + ", ".join(f"{float(r['preload']):g}: {float(r['solve_time_s']):.1f} s" for r in points) + ".", "",
-              f"Verdict: the whole loading branch, through its folds to where it ends, takes "
-              f"{summary['fundamental_wall_time_s']:.0f} s on one core, and the longest cycle of the sweep "
-              f"{max(float(r['solve_time_s']) for r in points):.0f} s (target: 0 to closure, both stages, "
-              f"under 5 minutes on 2 cores). The branch does not reach closure (docs/results.md)."]
-    return "\n".join(lines)
+    return render("crater-air-paths.md", points, summary, stages=stages, folds=folds,
+                  per_preload=", ".join(f"{float(r['preload']):g}: {float(r['solve_time_s']):.1f} s" for r in points),
+                  longest=max(float(r["solve_time_s"]) for r in points)).rstrip("\n")
 
 
 def value(point: dict | None) -> float:
@@ -195,4 +187,8 @@ def plot(load, stepped, ends, summary) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["--render-only"]:  # the crater-air.md section again from the kept summary.json
+        put_section(ROOT / "docs" / "benchmarks" / "crater-air.md", "paths",
+                    cost_section(json.loads((OUT / "summary.json").read_text())))
+    else:
+        main()
