@@ -15,16 +15,20 @@ Measures, in one process (warm JIT cache, times of ``crater.solve``, not pinned)
 Usage (from the repository root)::
 
     .venv/bin/python benchmarks/crater_air_edge.py   # ~4 min
+    .venv/bin/python benchmarks/crater_air_edge.py --render-only   # the section from CSV + JSON
 
-Writes ``docs/benchmarks/crater-air-edge.csv`` and the section between the markers
+Writes ``docs/benchmarks/crater-air-edge.{csv,json}`` and, from the template
+``benchmarks/templates/crater-air-edge.md``, the section between the markers
 ``<!-- edge:begin -->`` and ``<!-- edge:end -->`` of ``docs/benchmarks/crater-air.md``.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import subprocess
+import sys
 import time
 
 from mpi4py import MPI
@@ -38,8 +42,14 @@ from common import (
     csv_text,
     fmt,
     observed_order,
+    provenance,
+    provenance_note,
     put_section,
+    read_csv,
     reference,
+    render,
+    table,
+    write_summary,
 )
 
 import bcfem  # noqa: F401
@@ -51,7 +61,7 @@ from bcfem.scenes.crater.params import Params
 OUT = ROOT / "docs" / "benchmarks"
 SIZES = [0.16, 0.12, 0.09, 0.06, 0.045, 0.035]
 FAR_RATIO = 4.0  # far-field size over size_crater on the meshes refined everywhere
-COMMAND = ".venv/bin/python benchmarks/crater_air_edge.py"
+TEMPLATE = "crater-air-edge.md"
 COLUMNS = ["study", "mesh", "eps", "size_crater", "size_far", "dofs", "t_solve_s", "F_tilde", "F_tilde_midpoint",
            "A2_over_A0", "A2_over_A0_midpoint", "p2_over_pa", "V1_over_V0", "V2_over_V0", "wall_nodes_on_plate",
            "r_edge_over_a", "r_edge_midpoint_over_a"]
@@ -139,52 +149,38 @@ def convergence(series, key):
     return ref, orders
 
 
-def section(rows) -> str:
-    head = commit()
-    dirty = subprocess.run(["git", "status", "--porcelain", "bcfem"], capture_output=True, text=True,
-                           cwd=ROOT).stdout.strip()
-    out = ["## The contact radius A2 and the far-field mesh at eps = 0.2", "",
-           f"Regenerate with `{COMMAND}` (one process, warm JIT cache, times of `crater.solve`, not pinned, on a shared machine (load average about 3): indicative only; "
-           f"bcfem @ {head}{' with uncommitted changes in bcfem/' if dirty else ''}); it writes "
-           "`crater-air-edge.csv` and this section.", "",
-           "A2 = pi r_edge^2, where the crater wall leaves the plate. `F~` takes r_edge inside its element "
-           "(`bcfem/contact/plate_edge.py`: g^(2/3) of the first three wall nodes off the plate, a quadratic in the arc "
-           "length, extrapolated to zero, since the gap of a smooth frictionless edge grows as (s - s0)^(3/2); an "
-           "edge at a corner stays at the corner's node). `F~ (midpoint)` is the former rule, midway between the "
-           "highest wall node on the plate and the next one off it, evaluated on the same states. `on plate`: wall "
-           "nodes on the plate at the end of the cycle. `scene` meshes are `bcfem run crater --size-crater h`'s "
-           f"(far field max(0.5, h) a); `refined` meshes have the far field at {FAR_RATIO:g} h a.", ""]
+def section(rows: list[dict], summary: dict) -> str:
+    """This benchmark's section of docs/benchmarks/crater-air.md: the template
+    benchmarks/templates/crater-air-edge.md filled from the rows (CSV) and the summary (JSON)."""
+    meshes = []
     for mesh in ("scene", "refined"):
         series = [r for r in rows if r["study"] == "eps0.2" and r["mesh"] == mesh]
-        out += [f"### eps = 0.2, {mesh} meshes", "",
-                "| size_crater | size_far / a | dofs | F~ | F~ (midpoint) | A2/A0 | p2/pa | on plate | t [s] |",
-                "|---|---|---|---|---|---|---|---|---|"]
-        out += [f"| {r['size_crater']:g} | {r['size_far']:g} | {r['dofs']} | {r['F_tilde']:.9f} | "
-                f"{r['F_tilde_midpoint']:.9f} | {r['A2_over_A0']:.9f} | {r['p2_over_pa']:.9f} | "
-                f"{r['wall_nodes_on_plate']} | {r['t_solve_s']:.1f} |" for r in series]
         ref, orders = convergence(series, "F_tilde")
-        d = ref["differences"]
         same = all(r["F_tilde"] == r["F_tilde_midpoint"] for r in series)
-        out += ["", f"Differences of F~, coarse to fine: {', '.join(f'{x:+.2e}' for x in d)} "
-                f"({ref['sign_changes']} sign changes); observed order on successive triples: "
-                f"{', '.join(fmt(p, '.2f') or '-' for p in orders)} ('-': the differences change sign). "
-                + (f"Richardson reference (order {ref['order']:.2f}, meshes {ref['meshes_used'][0]:g} and "
-                   f"{ref['meshes_used'][1]:g}): F~ = {ref['F']:.9f}."
-                   if ref["kind"] == "richardson" else
-                   f"No Richardson reference: the finest {MONOTONE_MESHES} meshes do not converge monotonically (criterion of "
-                   f"`crater_air.py`); the finest mesh gives F~ = {ref['F']:.9f}.")
-                + (" Both rules give the same F~ on every mesh: only the rim node is on the plate." if same else ""),
-                ""]
+        reference_ = (f"Richardson reference (order {ref['order']:.2f}, meshes {ref['meshes_used'][0]:g} and "
+                      f"{ref['meshes_used'][1]:g}): F~ = {ref['F']:.9f}." if ref["kind"] == "richardson" else
+                      f"No Richardson reference: the finest {MONOTONE_MESHES} meshes do not converge monotonically "
+                      f"(criterion of `crater_air.py`); the finest mesh gives F~ = {ref['F']:.9f}.")
+        meshes.append(render(TEMPLATE, rows, summary, section="mesh", mesh=mesh, table=table(series, [
+            ("size_crater", "{size_crater:g}"), ("size_far / a", "{size_far:g}"), ("dofs", "{dofs}"),
+            ("F~", "{F_tilde:.9f}"), ("F~ (midpoint)", "{F_tilde_midpoint:.9f}"), ("A2/A0", "{A2_over_A0:.9f}"),
+            ("p2/pa", "{p2_over_pa:.9f}"), ("on plate", "{wall_nodes_on_plate}"), ("t [s]", "{t_solve_s:.1f}")]),
+            differences=", ".join(f"{x:+.2e}" for x in ref["differences"]), sign_changes=ref["sign_changes"],
+            orders=", ".join(fmt(p, ".2f") or "-" for p in orders),
+            reference=reference_ + (" Both rules give the same F~ on every mesh: only the rim node is on the plate."
+                                    if same else "")))
     loads = [r for r in rows if r["study"] == "load0.3"]
+    loaded_ = ""
     if loads:
-        out += ["### The wall rolled onto the plate: end of loading to eps = 0.3 (refined meshes)", "",
-                "| size_crater | on plate | r_edge / a | r_edge / a (midpoint) | t [s] |", "|---|---|---|---|---|"]
-        out += [f"| {r['size_crater']:g} | {r['wall_nodes_on_plate']} | {r['r_edge_over_a']:.5f} | "
-                f"{r['r_edge_midpoint_over_a']:.5f} | {r['t_solve_s']:.1f} |" for r in loads]
         spread = [max(r[k] for r in loads) - min(r[k] for r in loads)
                   for k in ("r_edge_over_a", "r_edge_midpoint_over_a")]
-        out += ["", f"Spread over the meshes: {spread[0]:.1e} a (located edge), {spread[1]:.1e} a (midpoint).", ""]
-    return "\n".join(out)
+        loaded_ = render(TEMPLATE, rows, summary, section="loaded", located=spread[0], midpoint=spread[1],
+                         table=table(loads, [
+                             ("size_crater", "{size_crater:g}"), ("on plate", "{wall_nodes_on_plate}"),
+                             ("r_edge / a", "{r_edge_over_a:.5f}"), ("r_edge / a (midpoint)", "{r_edge_midpoint_over_a:.5f}"),
+                             ("t [s]", "{t_solve_s:.1f}")]))
+    return render(TEMPLATE, rows, summary, far_ratio=FAR_RATIO, meshes="".join(meshes), loaded=loaded_,
+                  provenance=provenance_note(summary)).rstrip("\n")
 
 
 def main():
@@ -198,9 +194,18 @@ def main():
         rows.append(loaded(size))
         print({k: rows[-1][k] for k in ("size_crater", "wall_nodes_on_plate", "r_edge_over_a",
                                         "r_edge_midpoint_over_a")}, flush=True)
+    dirty = subprocess.run(["git", "status", "--porcelain", "bcfem"], capture_output=True, text=True,
+                           cwd=ROOT).stdout.strip()
+    summary = {"bcfem": f"bcfem @ {commit()}{' with uncommitted changes in bcfem/' if dirty else ''}",
+               "provenance": provenance()}
     atomic_text(OUT / "crater-air-edge.csv", csv_text(rows, COLUMNS))
-    put_section(OUT / "crater-air.md", "edge", section(rows))
+    write_summary("crater-air-edge", summary)
+    put_section(OUT / "crater-air.md", "edge", section(rows, summary))
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["--render-only"]:  # the section again from the CSV and JSON, nothing solved
+        put_section(OUT / "crater-air.md", "edge", section(read_csv(OUT / "crater-air-edge.csv"),
+                                                           json.loads((OUT / "crater-air-edge.json").read_text())))
+    else:
+        main()
