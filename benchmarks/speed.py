@@ -45,8 +45,15 @@ from common import (
     loadavg,
     one_core_env,
     pinned,
+    provenance,
+    provenance_note,
+    render,
+    render_again,
     save_figure,
+    table,
     worker_result,
+    write_report,
+    write_summary,
 )
 
 #: the default commit to compare with (``--before``)
@@ -166,24 +173,25 @@ COLUMNS = ["case", "version", "process", "process_median", "run", "result", "ste
            "failed_solves", "stability", *COUNTED, *(f"split_{k}" for k in SPLIT), "repeats", "results_spread"]
 
 
-def table(rows: list[dict], commit: str) -> list[str]:
-    L = ["| case | version | process [s] (median) | run [s] | F~ or P_max | Newton its | ms per it (factorisation) "
-         "| failed solves | analyses / factorisations | Jacobians / residuals | assembly | discrete | factorisation "
-         "| solve | Newton rest | stability | other |", "|" + "---|" * 18]
-    for r in rows:
-        label = f"before ({commit})" if r["version"] == "before" else r["version"]
-        if r["version"] == "shooting":
-            L.append(f"| {r['case']} | shooting, rtol {SHOOTING_RTOL:.0e} | {r['process']:.2f} "
-                     f"({r['process_median']:.2f}) | | {r['result']:.13f} |" + " |" * 12)
-            continue
-        split = " | ".join(f"{r[f'split_{k}']:.2f}" for k in SPLIT)
-        L.append(f"| {r['case']} | {label} | {r['process']:.2f} ({r['process_median']:.2f}) | {r['run']:.2f} | "
-                 f"{r['result']:.13g} | {r['newton_iterations']} | {r['ms_per_iteration']:.1f} "
-                 f"({r['factorisation_ms_per_iteration']:.1f}) | {r['failed_solves']} | "
-                 f"{r['MatLUFactorSym'] + r['MatCholFctrSym']} / {r['MatLUFactorNum'] + r['MatCholFctrNum']} | "
-                 f"{r['SNESJacobianEval']} / "
-                 f"{r['SNESFunctionEval']} | {split} |")
-    return L
+def runs_table(rows: list[dict], commit: str) -> str:
+    """The cases' table: both versions' runs and the shooting code's."""
+    def bcfem(how):
+        return lambda r: "" if r["version"] == "shooting" else how(r)
+
+    return table(rows, [
+        ("case", "{case}"),
+        ("version", lambda r: f"shooting, rtol {SHOOTING_RTOL:.0e}" if r["version"] == "shooting"
+         else f"before ({commit})" if r["version"] == "before" else r["version"]),
+        ("process [s] (median)", "{process:.2f} ({process_median:.2f})"), ("run [s]", bcfem(lambda r: f"{r['run']:.2f}")),
+        ("F~ or P_max", lambda r: f"{r['result']:.13f}" if r["version"] == "shooting" else f"{r['result']:.13g}"),
+        ("Newton its", bcfem(lambda r: f"{r['newton_iterations']}")),
+        ("ms per it (factorisation)", bcfem(lambda r: f"{r['ms_per_iteration']:.1f} ({r['factorisation_ms_per_iteration']:.1f})")),
+        ("failed solves", bcfem(lambda r: f"{r['failed_solves']}")),
+        ("analyses / factorisations", bcfem(lambda r: f"{r['MatLUFactorSym'] + r['MatCholFctrSym']} / "
+                                                      f"{r['MatLUFactorNum'] + r['MatCholFctrNum']}")),
+        ("Jacobians / residuals", bcfem(lambda r: f"{r['SNESJacobianEval']} / {r['SNESFunctionEval']}")),
+        *[(head, bcfem(lambda r, k=k: f"{r[f'split_{k}']:.2f}")) for head, k in zip(
+            ("assembly", "discrete", "factorisation", "solve", "Newton rest", "stability", "other"), SPLIT)]])
 
 
 def figure(rows: list[dict], path: Path) -> None:
@@ -209,18 +217,12 @@ def figure(rows: list[dict], path: Path) -> None:
 
 
 MAPS = Path("docs/figures/crater_design/sweeps")
+TEMPLATE = "speed.md"
 
 
-def map_timings(commit: str) -> list[str]:
-    """The design maps' timings: each map's ``timing.json`` now, and at ``commit`` (git)."""
-    L = ["## The twelve design maps", "",
-         "Solved from nothing by `mpirun -n 2 python demos/crater_design.py --full --out DIR` (the maps kept in "
-         f"`{MAPS}`); each map's `timing.json`. The maps' points are one pool (`sweep.run_pool`): a map's "
-         "cost is its points' own solve times (core-s, one rank each), and the wall time is the pool's. "
-         f"Before ({commit}) the maps ran one after another: core-s = wall x ranks.", "",
-         f"| map | points | failed | core-s | before ({commit}): core-s (ranks) |",
-         "|---|---|---|---|---|"]
-    wall, core, core_old, ranks = 0.0, 0.0, 0.0, set()
+def map_timings(commit: str) -> str:
+    """The design maps' section: each map's ``timing.json`` now, and at ``commit`` (git)."""
+    lines, wall, core, core_old, ranks = [], 0.0, 0.0, 0.0, set()
     for path in sorted((ROOT / MAPS).glob("*/timing.json")):
         now = json.loads(path.read_text())
         old = subprocess.run(["git", "show", f"{commit}:{MAPS / path.parent.name / 'timing.json'}"], cwd=ROOT,
@@ -232,12 +234,21 @@ def map_timings(commit: str) -> list[str]:
         core += core_now
         ranks.add(now["ranks"])
         core_old += old["wall_time_s"] * old["ranks"] if old else float("nan")
-        L.append(f"| {path.parent.name} | {now['solved']} | {now['failed']} | {core_now:.0f} | "
-                 f"{old['wall_time_s'] * old['ranks'] if old else float('nan'):.0f} ({old['ranks'] if old else ''}) |")
-    L.append(f"| **all** | | | {core:.0f} | {core_old:.0f} |")
-    L += ["", f"Wall time of the maps: **{wall:.0f} s ({wall / 60:.1f} min)** on "
-          f"{' or '.join(map(str, sorted(ranks)))} ranks."]
-    return L
+        lines.append({"map": path.parent.name, "solved": now["solved"], "failed": now["failed"], "core": core_now,
+                      "old": f"{old['wall_time_s'] * old['ranks'] if old else float('nan'):.0f} "
+                             f"({old['ranks'] if old else ''})"})
+    rows = table(lines, [("map", "{map}"), ("points", "{solved}"), ("failed", "{failed}"), ("core-s", "{core:.0f}"),
+                         (f"before ({commit}): core-s (ranks)", "{old}")])
+    rows += f"\n| **all** | | | {core:.0f} | {core_old:.0f} |"
+    return render(TEMPLATE, lines, {}, section="maps", maps_dir=MAPS, before=commit, table=rows, wall=wall,
+                  wall_min=wall / 60, ranks=" or ".join(map(str, sorted(ranks)))).rstrip("\n")
+
+
+def report(rows: list[dict], summary: dict) -> str:
+    """The Markdown report: benchmarks/templates/speed.md filled from the runs (CSV), the summary
+    (JSON: settings, machine, the two commits) and the maps' ``timing.json`` files."""
+    return render(TEMPLATE, rows, summary, runs=runs_table(rows, summary["before"]),
+                  maps=map_timings(summary["before"]), provenance=provenance_note(summary))
 
 
 def positive_int(text: str) -> int:
@@ -254,11 +265,17 @@ def main(argv=None) -> None:
                         help=f"a subset of: {', '.join(CASES)}")
     parser.add_argument("--maps-only", action="store_true",
                         help="rewrite only speed.md's maps section, from the kept maps' timing.json")
+    parser.add_argument("--render-only", action="store_true",
+                        help="render speed.md again from the speed.csv and .json that are there")
     args = parser.parse_args(argv)
+    if args.render_only:
+        render_again("speed", report)
+        print(f"wrote {OUT / 'speed.md'}")
+        return
     if args.maps_only:
         text = (OUT / "speed.md").read_text()
         kept = text[:text.index("## The twelve design maps")]
-        atomic_text(OUT / "speed.md", kept + "\n".join(map_timings(args.before)) + "\n")
+        write_report(OUT / "speed.md", kept + map_timings(args.before))
         print(f"wrote {OUT / 'speed.md'}")
         return
     busy = busy_cores()
@@ -267,26 +284,13 @@ def main(argv=None) -> None:
         rows, info = measure(before, args.repeats, args.cases)
     finally:
         subprocess.run(["git", "worktree", "remove", "--force", str(before)], cwd=ROOT, capture_output=True)
-    head = commit()
     atomic_text(OUT / "speed.csv", csv_text(rows, COLUMNS))
     figure(rows, OUT / "speed.png")
-    cpu = cpu_name()
-    L = ["# Benchmark: the solver at two commits", "",
-         f"Regenerate with `.venv/bin/python benchmarks/speed.py --repeats {args.repeats}` (part of `make bench`). "
-         f"Measured on `{cpu}` ({os.cpu_count()} cores; {busy:.2f} cores busy with other work at the start, "
-         f"load average {info['load_start']}), before = {args.before}, after = {head} (working tree).", "",
-         "Every case is a whole `bcfem run ... --quiet --no-plots` process pinned to one core; `process` is its "
-         f"best wall time over {args.repeats} interleaved rounds (median in brackets), `run` its `wall_time_s` "
-         "(solve and output, without imports and meshing), the split from `time_split_s` (the version before "
-         "has no factorisation/solve parts: its 'Newton rest' holds them). Analyses, factorisations, Jacobians "
-         "and residuals are PETSc's event counts (LU and LDL^T factorisations: MatLUFactorSym + MatCholFctrSym, "
-         "MatLUFactorNum + MatCholFctrNum; SNESJacobianEval, SNESFunctionEval) from one more run under "
-         "`-log_view`; they include the stability checks' factorisations. Both versions run with a JIT cache "
-         f"of their own (`XDG_CACHE_HOME={JIT_CACHE}`, warmed by an untimed run of each case): ffcx lists the "
-         "cache directory at every form it loads, about 4 ms per form in a cache of 1800 modules (0.1 s "
-         "of a crater run).", "", *table(rows, args.before), "", "![time split](speed.png)", "",
-         *map_timings(args.before)]
-    atomic_text(OUT / "speed.md", "\n".join(L) + "\n")
+    summary = {"repeats": args.repeats, "cpu": cpu_name(), "cores": os.cpu_count(), "busy": busy,
+               "load_start": info["load_start"], "before": args.before, "after": commit(),
+               "jit_cache": f"~/{JIT_CACHE.relative_to(Path.home())}", "provenance": provenance()}
+    write_summary("speed", summary)
+    write_report(OUT / "speed.md", report(rows, summary))
     print(f"wrote {OUT / 'speed.md'}")
 
 
