@@ -3,7 +3,9 @@ bottom face, in 3-D: the mirror faces x = 0 and y = 0 cut it, z is vertical, the
 z = 0. Built with OpenCASCADE on rank 0; quadratic tetrahedra, refined towards the crater.
 
 Facets: BOTTOM (the flat face outside the crater), WALL (the crater), TOP, OUTER, MIRROR_X
-(x = 0), MIRROR_Y (y = 0). Units are those of the inputs (the crater scene's mm).
+(x = 0), MIRROR_Y (y = 0), and with a lining INTERFACE (its outer sphere, inside the body).
+Cells: SPECIMEN (1), LAYER (2, the lining a <= rho <= a + t, as :mod:`bcfem.geometry.crater`'s).
+Units are those of the inputs (the crater scene's mm).
 """
 
 from __future__ import annotations
@@ -11,19 +13,22 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-BOTTOM, WALL, TOP, OUTER, MIRROR_X, MIRROR_Y = 11, 12, 13, 15, 16, 17
+BOTTOM, WALL, TOP, OUTER, MIRROR_X, MIRROR_Y, INTERFACE = 11, 12, 13, 15, 16, 17, 18
+SPECIMEN, LAYER = 1, 2
 
 
 @dataclass(frozen=True)
 class CraterSector:
     """Dimensions (the experiment's, section 7.2.1, as :class:`bcfem.geometry.crater.CraterGeometry`)
-    and the element sizes on the wall and far from it, over the crater radius a."""
+    and the element sizes on the wall and far from it, over the crater radius a; a lining of
+    thickness ``layer_thickness`` t/a (0: none)."""
 
     radius: float = 12.70
     height: float = 35.13
     crater_radius: float = 6.35
     size_wall: float = 0.25
     size_far: float = 0.6
+    layer_thickness: float = 0.0
 
     def build_model(self) -> None:
         import gmsh
@@ -38,11 +43,24 @@ class CraterSector:
         ball = occ.addSphere(0, 0, 0, a)
         body, _ = occ.intersect([(3, cylinder)], [(3, quarter)])
         body, _ = occ.cut(body, [(3, ball)])
+        lining = []
+        t = self.layer_thickness * a
+        if t > 0:
+            box = occ.addBox(0, 0, 0, 2 * a, 2 * a, 2 * a)
+            shell, _ = occ.intersect([(3, occ.addSphere(0, 0, 0, a + t))], [(3, box)])
+            shell, _ = occ.cut(shell, [(3, occ.addSphere(0, 0, 0, a))])
+            pieces, _ = occ.fragment(body, shell)
+            occ.synchronize()
+            lining = [tag for dim, tag in pieces if dim == 3 and math.hypot(*occ.getCenterOfMass(3, tag)) < a + t]
+            body = [(3, tag) for dim, tag in pieces if dim == 3 and tag not in lining]
         occ.synchronize()
-        gmsh.model.addPhysicalGroup(3, [t for _, t in body], 1, name="specimen")
-        wall = []
+        gmsh.model.addPhysicalGroup(3, [t for _, t in body], SPECIMEN, name="specimen")
+        if lining:
+            gmsh.model.addPhysicalGroup(3, lining, LAYER, name="layer")
+        wall, groups = [], {}
         for _, tag in gmsh.model.getEntities(2):
             x, y, z = occ.getCenterOfMass(2, tag)
+            reach = gmsh.model.getBoundingBox(2, tag)[3]  # a sphere's radius, the cylinder's
             if abs(x) < 1e-9 * self.radius:
                 key = MIRROR_X
             elif abs(y) < 1e-9 * self.radius:
@@ -51,12 +69,17 @@ class CraterSector:
                 key = BOTTOM
             elif abs(z - self.height) < 1e-9 * self.height:
                 key = TOP
-            elif abs(math.hypot(x, y, z) - a) < 0.5 * a:
+            elif t > 0 and abs(reach - a - t) < 0.5 * t:
+                key = INTERFACE
+                wall.append(tag)
+            elif abs(reach - a) < 0.5 * (t if t > 0 else a):
                 key = WALL
                 wall.append(tag)
             else:
                 key = OUTER
-            gmsh.model.addPhysicalGroup(2, [tag], key)
+            groups.setdefault(key, []).append(tag)
+        for key, tags in groups.items():
+            gmsh.model.addPhysicalGroup(2, tags, key)
         graded_tetrahedra(wall, self.size_wall * a, self.size_far * a, 0.1 * a, 1.5 * a)
 
 

@@ -22,6 +22,7 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from bcfem.contact.plate_bounds import plate_bounds
 from bcfem.geometry.crater_cell import BOTTOM, MIRROR_X, MIRROR_Y, SIDE_X, SIDE_Y, TOP, WALL, create_mesh
 from bcfem.kinematics.solid_3d import Solid3D
 from bcfem.mpi import global_sum, real_value
@@ -128,13 +129,7 @@ class CellModel:
 
     def contact_bounds(self, problem) -> None:
         """z = Z + ũ_z >= 0 on the walls: their frictionless contact with the plate."""
-        lower = [fem.Function(s.function_space) for s in problem.states]
-        upper = [fem.Function(s.function_space) for s in problem.states]
-        for low, up in zip(lower, upper):
-            low.x.array[:], up.x.array[:] = -1e20, 1e20
-        nodes = self._wall_nodes
-        lower[problem.names.index("displacement")].x.array[3 * nodes + 2] = -self._nodes[nodes, 2]
-        problem.set_bounds(lower, upper)
+        plate_bounds(problem, 3 * self._wall_nodes + 2, self._nodes[self._wall_nodes, 2])
 
     def lowest_wall_point(self) -> float:
         """The least current height of the walls' nodes (collective)."""
