@@ -45,12 +45,12 @@ profile: venv
 	$$(command -v taskset >/dev/null && echo taskset -c 0) $(BIN)/bcfem run $(or $(ARGS),$(PROFILE_ARGS)) \
 		--out results/profile --quiet --no-plots --profile
 
-# error against run time: docs/benchmarks/<scene>.{csv,md,png}
+# error against run time: docs/benchmarks/<scene>.{csv,md,png}; the speed of this checkout against
+# another commit: python benchmarks/speed.py --before COMMIT
 bench: venv
 	$(BIN)/python benchmarks/blister_rigid.py
 	$(BIN)/python benchmarks/blister_3d.py
 	$(BIN)/python benchmarks/blister_shooting.py
-	$(BIN)/python benchmarks/speed.py
 	$(BIN)/python benchmarks/blister_edges.py
 	OMP_NUM_THREADS=1 $(BIN)/python benchmarks/newtonal_vs_bordered.py
 	$(BIN)/python benchmarks/crater_air.py

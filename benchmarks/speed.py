@@ -13,9 +13,9 @@ Cases: the hemisphere's cycle (``bcfem run crater``) at preload 0.2, 0.3 and clo
 
 Usage (from the repository root, on an otherwise idle machine)::
 
-    .venv/bin/python benchmarks/speed.py                 # 3 rounds, about 8 min
-    .venv/bin/python benchmarks/speed.py --before 14f700f --repeats 5
-    .venv/bin/python benchmarks/speed.py --maps-only     # after the maps were solved again
+    .venv/bin/python benchmarks/speed.py --before COMMIT              # 3 rounds, about 8 min
+    .venv/bin/python benchmarks/speed.py --before COMMIT --repeats 5
+    .venv/bin/python benchmarks/speed.py --before COMMIT --maps-only  # after the maps were solved again
 
 Writes ``docs/benchmarks/speed.{csv,md,png}``.
 """
@@ -56,8 +56,6 @@ from common import (
     write_summary,
 )
 
-#: the default commit to compare with (``--before``)
-BEFORE = "14f700f"
 OUT = ROOT / "docs" / "benchmarks"
 BCFEM = ROOT / ".venv" / "bin" / "bcfem"
 CASES = {
@@ -259,7 +257,7 @@ def positive_int(text: str) -> int:
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", default=BEFORE, help=f"the commit to compare with (default {BEFORE})")
+    parser.add_argument("--before", help="the commit to compare with (required unless --render-only)")
     parser.add_argument("--repeats", type=positive_int, default=3, help="rounds, >= 1 (default 3)")
     parser.add_argument("--cases", nargs="+", choices=list(CASES), default=list(CASES), metavar="CASE",
                         help=f"a subset of: {', '.join(CASES)}")
@@ -268,6 +266,8 @@ def main(argv=None) -> None:
     parser.add_argument("--render-only", action="store_true",
                         help="render speed.md again from the speed.csv and .json that are there")
     args = parser.parse_args(argv)
+    if not args.render_only and not args.before:
+        parser.error("--before COMMIT is required: the code to compare this checkout with")
     if args.render_only:
         render_again("speed", report)
         print(f"wrote {OUT / 'speed.md'}")
