@@ -184,18 +184,18 @@ def test_a_failed_cycle_is_traced_again_with_bounded_steps(monkeypatch):
     again, carefully, and says why; a second failure names both, and the run says failed."""
     from bcfem.path.stepping import SteppingError
     from bcfem.run.runner import SolveError
-    from bcfem.scenes.crater.stages import CraterCycle
+    from bcfem.run.stages import StagedScene
 
     calls = []
 
-    def cycle(self, run, careful):
-        calls.append(careful)
+    def stages(self, run):  # both stages, as the crater's cycle calls them
+        calls.append(self.careful)
         run.record({"eps": 0.0})
-        if careful in fail:
-            raise SteppingError(f"{'careful' if careful else 'first'} failed", 0.5)
+        if self.careful in fail:
+            raise SteppingError(f"{'careful' if self.careful else 'first'} failed", 0.5)
         run.results.update(F_tilde=1.0, retraced=None)
 
-    monkeypatch.setattr(CraterCycle, "_cycle", cycle)
+    monkeypatch.setattr(StagedScene, "solve", stages)
     params = crater.Params()
     fail = ()
     rows, summary = crater.solve(params, MPI.COMM_SELF)

@@ -26,18 +26,20 @@ class Stage:
         name: the stage's name (its PETSc prefix ``bcfem_<scene>_<name>_``).
         terms: the stage's energy terms, built when it is entered (after ``enter``).
         drive: follows the stage's path on its problem, recording rows into the run; it
-            ends the stage (returns) where the stage's end condition holds.
+            ends the stage (returns) where the stage's end condition holds, or returns True
+            to enter the stage again with its terms built anew (a fluid that changes phase).
         ends: what ends the stage, in words (the scene's help and docs).
-        enter: what happens on entering the stage, before its terms are built.
+        enter: what happens on entering the stage, before its terms are built; returning
+            False skips the stage (nothing left to do, e.g. a crater that stays closed).
         prepare: what is set on the stage's problem before it is driven.
         petsc_options: the stage's PETSc defaults (the user's options still win).
     """
 
     name: str
     terms: Callable[[], list]
-    drive: Callable[[Any, Any], None]
+    drive: Callable[[Any, Any], bool | None]
     ends: str
-    enter: Callable[[], None] | None = None
+    enter: Callable[[], bool | None] | None = None
     prepare: Callable[[Any], None] | None = None
     petsc_options: dict = field(default_factory=dict)
 
@@ -81,13 +83,16 @@ class StagedScene(Scene):
         if undeclared:
             raise ValueError(f"scene {self.name!r} plans the undeclared stages {undeclared}")
         for stage in stages:
-            if stage.enter is not None:
-                stage.enter()
-            options = {**self.problem_options}
-            petsc = {**options.pop("petsc_options", {}), **stage.petsc_options}
-            with run.stage(stage.name, self.model.ctx, stage.terms(), self.model.bcs, petsc, **options) as problem:
-                if stage.prepare is not None:
-                    stage.prepare(problem)
-                stage.drive(problem, run)
+            if stage.enter is not None and stage.enter() is False:
+                continue
+            again = True
+            while again:
+                options = {**self.problem_options}
+                petsc = {**options.pop("petsc_options", {}), **stage.petsc_options}
+                with run.stage(stage.name, self.model.ctx, stage.terms(), self.model.bcs, petsc,
+                               **options) as problem:
+                    if stage.prepare is not None:
+                        stage.prepare(problem)
+                    again = bool(stage.drive(problem, run))
         self.finish(run)
 

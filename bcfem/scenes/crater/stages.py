@@ -33,7 +33,7 @@ from bcfem.mpi import global_sum, real_value
 from bcfem.path.stepping import LoadPath, SteppingError
 from bcfem.physics.cavitation import BISECTIONS, change_phase, liquid_or_vapour, phase_change
 from bcfem.physics.fluids import FLUIDS, Vacuum
-from bcfem.run.scene import Scene
+from bcfem.run.stages import Stage, StagedScene
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import (
     CLOSURE_CRITERIA,
@@ -54,9 +54,10 @@ LINE_SEARCH_FALLBACKS = ("bt", "cp")
 CAREFUL = {"snes_max_it": 80}
 
 
-class CraterCycle(Scene):
-    """The crater scene: a :class:`Crater` model driven through the stages ``load`` and
-    ``unload`` (:mod:`bcfem.run.runner` solves it).
+class CraterCycle(StagedScene):
+    """The crater scene: a :class:`Crater` model driven through the stages ``load`` (vent
+    open) and ``unload`` (sealed; entered again when its liquid changes phase), planned as
+    data (:meth:`plan`) and run by :class:`bcfem.run.stages.StagedScene`.
 
     Args:
         params: the scene's parameters.
@@ -66,7 +67,7 @@ class CraterCycle(Scene):
     """
 
     name = "crater"
-    stages = ("load", "unload")
+    stage_names = ("load", "unload")
     columns = COLUMNS
 
     def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
@@ -74,18 +75,21 @@ class CraterCycle(Scene):
         self.comm = comm
         self.model_class = model_class
         self.model: Crater | None = None
+        #: Newton steps bounded to keep the wall admissible (the retrace of a failed cycle)
+        self.careful = False
 
     def solve(self, run) -> None:
         """Both stages; a failed cycle is traced once more with bounded Newton steps."""
         try:
-            self._cycle(run, careful=False)
+            super().solve(run)
         except SteppingError as failure:
             if self.params.self_contact == 0:
                 raise
             progress(f"{failure}: tracing the cycle again with bounded Newton steps")
             run.restart()
+            self.careful = True
             try:
-                self._cycle(run, careful=True)
+                super().solve(run)
             except SteppingError as again:
                 raise SteppingError(f"{again} (traced again with bounded Newton steps; the first trace: "
                                     f"{failure})", again.reached) from None
@@ -94,83 +98,113 @@ class CraterCycle(Scene):
     def figures(self, rows, summary) -> dict:
         return {"cycle.png": plot(rows, summary)}
 
-    def _path(self, problem, set_load, stage: str, events: list, waves) -> LoadPath:
-        beta, a = self.params.beta, self.params.crater_radius
-        return LoadPath(problem, set_load, stage, self.model.viscosity, beta / a**2,
-                        events=events, max_snaps=self.params.max_snaps, waves=waves, load_name="eps")
+    # -- the plan -------------------------------------------------------------------------
+    @property
+    def problem_options(self) -> dict:
+        return dict(petsc_options={"snes_type": "vinewtonrsls", **(CAREFUL if self.careful else {})},
+                    energy_scale=self.model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
 
-    def _cycle(self, run, careful: bool) -> None:
-        params = self.params
-        model = self.model = self.model_class(params, self.comm)
+    def setup(self, run) -> None:
+        model = self.model = self.model_class(self.params, self.comm)
         run.watch([model.u])
-        events: list[dict] = []
-        phase_changes: list[dict] = []
-        run.results.update(instabilities=events, retraced=None, phase_changes=phase_changes, cavitation=None)
-        solver = {"snes_type": "vinewtonrsls", **(CAREFUL if careful else {})}
-        kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
+        self.events: list[dict] = []
+        self.phase_changes: list[dict] = []
+        self.vapour = False
+        run.results.update(instabilities=self.events, retraced=None, phase_changes=self.phase_changes,
+                           cavitation=None)
+        self.run = run
 
-        with run.stage("load", model.ctx, model.terms(), model.bcs, solver, **kwargs) as loading, \
-                model.measuring(loading):
-            model.contact_bounds(loading)
-            if careful:
-                loading.bound_steps()
-            path = self._path(loading, model.set_platen, "load", events,
-                              model.wave_check(loading, model.terms()))
+    def plan(self) -> list[Stage]:
+        return [
+            Stage("load", terms=self.model.terms, prepare=self._prepare, drive=self._load,
+                  ends="at the preload, or at closure (--preload closure)"),
+            Stage("unload", enter=self._seal, terms=self._sealed_terms, prepare=self._prepare, drive=self._unload_stage,
+                  ends="at zero platen force (then, with --retract, at pull-off); entered again where the "
+                       "liquid cavitates or its vapour collapses"),
+        ]
+
+    def _prepare(self, problem) -> None:
+        self.model.contact_bounds(problem)
+        if self.careful:
+            problem.bound_steps()
+
+    def _path(self, problem, stage: str, terms) -> LoadPath:
+        beta, a = self.params.beta, self.params.crater_radius
+        return LoadPath(problem, self.model.set_platen, stage, self.model.viscosity, beta / a**2,
+                        events=self.events, max_snaps=self.params.max_snaps,
+                        waves=self.model.wave_check(problem, terms), load_name="eps")
+
+    def _load(self, problem, run) -> None:
+        params, model = self.params, self.model
+        with model.measuring(problem):
+            path = self.path = self._path(problem, "load", model.terms())
             run.record(model.observe("load", 0.0))
             path.start()
             if params.preload == PRELOAD_TO_CLOSURE:
-                preload, closes = load_to_closure(model, path, run)
+                self.preload, self.closes = load_to_closure(model, path, run)
             else:
-                preload, closes = params.preload, False
-                path.through(0.0, preload, params.strain_step, lambda e: run.record(model.observe("load", e)))
-        V1 = run.rows[-1]["V"]
+                self.preload, self.closes = params.preload, False
+                path.through(0.0, self.preload, params.strain_step, lambda e: run.record(model.observe("load", e)))
+
+    def _seal(self) -> bool:
+        """Seal the crater at the preload; False (no unloading) for a crater that stays closed."""
+        params, model, run = self.params, self.model, self.run
+        self.V1 = run.rows[-1]["V"]
         cavitates = params.fluid == "liquid" and params.cavitation != -math.inf
-        sealing = seal(model, V1, closes, cavitates)
-        closed, V1_sealed = sealing.closed, sealing.sealed_volume
-        if sealing.stays_closed:
-            finish(run, model, sealing.final_closed(model, preload), V1, closed, preload, preload, events,
-                   path.unstable)
-            return
-        # one problem per phase of the liquid: a cavitation or a collapse swaps its term
-        vapour, start = False, preload
-        if closed and cavitates:  # no liquid left to hold the wall down: vapour at p_v once it lifts
-            vapour = True
-            phase_changes.append({"stage": "unload", "kind": "cavitation", "eps": preload, "bracket": 0.0,
-                                  "p_over_pa": params.cavitation, "V_over_V0": V1 / model.geometry.crater_volume,
-                                  "detail": "closed on loading: the cavity holds vapour at p_v from the seal"})
-            run.results["cavitation"] = phase_changes[0]
-        while True:
-            fluid = Vacuum(model.cavity) if closed else liquid_or_vapour(
-                FLUIDS[params.fluid], model.cavity, V1, "fluid_pressure", vapour, params.cavitation)
-            terms = model.terms(fluid)
-            with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading, \
-                    model.measuring(unloading) as platen_force:
-                model.contact_bounds(unloading)
-                if careful:
-                    unloading.bound_steps()
-                path = self._path(unloading, model.set_platen, "unload", events,
-                                  model.wave_check(unloading, terms))
-                if start != preload:  # the state at the phase change, with the new phase's term
-                    if not path.solve_at(start, fallbacks=True):
-                        raise SteppingError(f"unload: no equilibrium after the {phase_changes[-1]['kind']} at "
-                                            f"eps = {start:.6g}: {unloading.failure}", start)
-                    run.record(model.observe("unload", start, V1_sealed))
-                ended = self._unload(model, path, unloading, platen_force, start, V1_sealed, closed, run, vapour)
-                if isinstance(ended, dict):
-                    phase_changes.append(ended)
-                    if ended["kind"] == "cavitation" and run.results["cavitation"] is None:
-                        run.results["cavitation"] = ended
-                    progress(f"unload: {ended['kind']} at eps = {ended['eps']:.6g}")
-                    vapour = change_phase(model.ctx, "fluid_pressure", ended["kind"], params.cavitation)
-                    start = ended["eps"]
-                    continue
-                final = model.observe("unload", model.strain, V1_sealed)
-                if params.retract > 0:
-                    run.record(final)
-                    run.results["pull_off"] = self._retract(model, path, V1_sealed, run)
-            break
-        finish(run, model, final, V1, closed, preload, ended, events, path.unstable,
-               recorded=params.retract > 0, vapour=vapour)
+        self.sealing = seal(model, self.V1, self.closes, cavitates)
+        self.start = self.preload
+        self.ended: float | dict = self.preload
+        if self.sealing.stays_closed:
+            self.final = self.sealing.final_closed(model, self.preload)
+            return False
+        if self.sealing.closed and cavitates:  # no liquid left to hold the wall down: vapour at p_v once it lifts
+            self.vapour = True
+            self.phase_changes.append({"stage": "unload", "kind": "cavitation", "eps": self.preload, "bracket": 0.0,
+                                       "p_over_pa": params.cavitation,
+                                       "V_over_V0": self.V1 / model.geometry.crater_volume,
+                                       "detail": "closed on loading: the cavity holds vapour at p_v from the seal"})
+            run.results["cavitation"] = self.phase_changes[0]
+        return True
+
+    def _sealed_terms(self) -> list:
+        """The model with its sealed fluid in its current phase (one problem per phase)."""
+        params, model = self.params, self.model
+        fluid = Vacuum(model.cavity) if self.sealing.closed else liquid_or_vapour(
+            FLUIDS[params.fluid], model.cavity, self.V1, "fluid_pressure", self.vapour, params.cavitation)
+        self.terms = model.terms(fluid)
+        return self.terms
+
+    def _unload_stage(self, problem, run) -> bool:
+        """Retract to zero platen force (and on, with --retract); True where the liquid changed
+        phase first: the stage is entered again from there with the new phase's term."""
+        params, model, V1_sealed = self.params, self.model, self.sealing.sealed_volume
+        with model.measuring(problem) as platen_force:
+            path = self.path = self._path(problem, "unload", self.terms)
+            if self.start != self.preload:  # the state at the phase change, with the new phase's term
+                if not path.solve_at(self.start, fallbacks=True):
+                    raise SteppingError(f"unload: no equilibrium after the {self.phase_changes[-1]['kind']} at "
+                                        f"eps = {self.start:.6g}: {problem.failure}", self.start)
+                run.record(model.observe("unload", self.start, V1_sealed))
+            ended = self.ended = self._unload(model, path, problem, platen_force, self.start, V1_sealed,
+                                              self.sealing.closed, run, self.vapour)
+            if isinstance(ended, dict):
+                self.phase_changes.append(ended)
+                if ended["kind"] == "cavitation" and run.results["cavitation"] is None:
+                    run.results["cavitation"] = ended
+                progress(f"unload: {ended['kind']} at eps = {ended['eps']:.6g}")
+                self.vapour = change_phase(model.ctx, "fluid_pressure", ended["kind"], params.cavitation)
+                self.start = ended["eps"]
+                return True
+            self.final = model.observe("unload", model.strain, V1_sealed)
+            if params.retract > 0:
+                run.record(self.final)
+                run.results["pull_off"] = self._retract(model, path, V1_sealed, run)
+        return False
+
+    def finish(self, run) -> None:
+        finish(run, self.model, self.final, self.V1, self.sealing.closed, self.preload, self.ended, self.events,
+               self.path.unstable, recorded=self.sealing.stays_closed is False and self.params.retract > 0,
+               vapour=self.vapour)
 
     def _retract(self, model, path, V1_sealed: float, run, bisections: int = 8) -> dict | None:
         """Lift the platen from zero force on to eps = -retract, recording the rows; stop at
