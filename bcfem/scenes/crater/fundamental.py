@@ -26,7 +26,7 @@ from bcfem.params import ContinuationParams
 from bcfem.path.continuation import ArcLength, ContinuationError
 from bcfem.path.stepping import LoadPath
 from bcfem.physics.fluids import FLUIDS, Vacuum
-from bcfem.run.scene import Scene
+from bcfem.run.stages import Stage, StagedScene
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import CLOSURE_CRITERIA, COLUMNS, MAX_CLOSURE_PRELOAD, PRELOAD_TO_CLOSURE, Params
 from bcfem.scenes.crater.report import finish, plot
@@ -43,11 +43,12 @@ def closure(values: dict) -> float:
     return max(c.volume - V, min(c.trapped - V, c.area - A))
 
 
-class FundamentalCycle(Scene):
-    """The crater scene on its fundamental branch (:mod:`bcfem.run.runner` solves it)."""
+class FundamentalCycle(StagedScene):
+    """The crater scene on its fundamental branch: the stages ``load`` and ``unload``, each
+    traced by arc-length in the platen's displacement (:meth:`plan`)."""
 
     name = "crater"
-    stages = ("load", "unload")
+    stage_names = ("load", "unload")
     columns = (*COLUMNS, "s", "unstable", "unstable_waves")
 
     def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
@@ -66,50 +67,74 @@ class FundamentalCycle(Scene):
         return ContinuationParams(ds=step / 2, ds_min=step * 2.0**-16, ds_max=step, event_tol=1e-9,
                                   max_steps=20000, max_correction=0.25)
 
-    def solve(self, run) -> None:
-        params = self.params
-        model = self.model = self.model_class(params, self.comm)
-        run.watch([model.u])
-        events, folds = [], []
-        run.results.update(instabilities=events, folds=folds, retraced=None)
-        H = params.specimen_height
-        arc = ArcLength(model.ctx, PARAMETER, self.continuation(), load_scale=H, norm={"displacement": H})
-        solver = {"snes_type": "vinewtonrsls"}
-        kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS,
-                      rows=arc.rows())
-        end_strain = MAX_CLOSURE_PRELOAD if params.preload == PRELOAD_TO_CLOSURE else params.preload
-        terms = [t for t in model.terms() if t is not model.viscosity]
+    # -- the plan -------------------------------------------------------------------------
+    @property
+    def problem_options(self) -> dict:
+        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.model.energy_scale,
+                    line_search_fallbacks=LINE_SEARCH_FALLBACKS, rows=self.arc.rows())
 
-        with run.stage("load", model.ctx, terms, model.bcs, solver, **kwargs) as loading:
-            model.contact_bounds(loading)
-            self._trace(run, arc, loading, "load", terms, None, events, folds,
-                        end=lambda v: max(v["eps"] - end_strain, closure(v)), direction=-1)
-            load_end = run.rows[-1]
-        V1, preload = load_end["V"], load_end["eps"]
-        closes = closure(load_end) >= -1e-8  # the end is located to event_tol: within round-off of 0
-        sealing = seal(model, V1, closes, cavitates=False)
-        closed, V1_sealed = sealing.closed, sealing.sealed_volume
-        if sealing.stays_closed:
-            final = sealing.final_closed(model, preload)
-            final.update(s=load_end["s"], platen_force=load_end["platen_force"], unstable=load_end["unstable"])
-            finish(run, model, final, V1, closed, preload, preload, events, load_end["unstable"])
-            return
-        fluid = Vacuum(model.cavity) if closed else FLUIDS[params.fluid](model.cavity, V1)
-        terms = [t for t in model.terms(fluid) if t is not model.viscosity]
-        with run.stage("unload", model.ctx, terms, model.bcs, solver, **kwargs) as unloading:
-            model.contact_bounds(unloading)
-            if closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
-                arc.hold(unloading, -preload * H)
-                ramp = model.ctx.constant("vacuum_load")
-                sealing = LoadPath(unloading, lambda s: setattr(ramp, "value", s), "seal", check_stability=False,
-                                   load_name="vacuum_ramp")
-                sealing.start()
-                sealing.advance(0.0, 1.0, 0.25)
-            self._trace(run, arc, unloading, "unload", terms, V1_sealed, events, folds,
-                        end=lambda v: v["platen_force"], direction=1)
-            final = run.rows.pop()
-        finish(run, model, final, V1, closed, preload, final["eps"], events, final["unstable"])
-        run.results["eps_m"] = preload if params.preload == PRELOAD_TO_CLOSURE and closes else None
+    def setup(self, run) -> None:
+        model = self.model = self.model_class(self.params, self.comm)
+        run.watch([model.u])
+        self.events: list[dict] = []
+        self.folds: list[dict] = []
+        run.results.update(instabilities=self.events, folds=self.folds, retraced=None)
+        H = self.params.specimen_height
+        self.arc = ArcLength(model.ctx, PARAMETER, self.continuation(), load_scale=H, norm={"displacement": H})
+        self.run = run
+
+    def plan(self) -> list[Stage]:
+        return [Stage("load", terms=self._terms, prepare=self.model.contact_bounds, drive=self._load,
+                      ends="at the preload, at closure, or at eps = 0.85"),
+                Stage("unload", enter=self._seal, terms=lambda: self._terms(self.fluid),
+                      prepare=self.model.contact_bounds, drive=self._unload, ends="at zero platen force")]
+
+    def _terms(self, *fluids) -> list:
+        """The model's terms without the viscous one: the branch is followed, not relaxed."""
+        self.terms = [t for t in self.model.terms(*fluids) if t is not self.model.viscosity]
+        return self.terms
+
+    def _load(self, problem, run) -> None:
+        params = self.params
+        end_strain = MAX_CLOSURE_PRELOAD if params.preload == PRELOAD_TO_CLOSURE else params.preload
+        self._trace(run, self.arc, problem, "load", self.terms, None, self.events, self.folds,
+                    end=lambda v: max(v["eps"] - end_strain, closure(v)), direction=-1)
+        self.load_end = run.rows[-1]
+
+    def _seal(self) -> bool:
+        """Seal at the end of loading; False (no unloading) for a liquid crater that closed."""
+        model, load_end = self.model, self.load_end
+        self.V1, self.preload = load_end["V"], load_end["eps"]
+        self.closes = closure(load_end) >= -1e-8  # the end is located to event_tol: within round-off of 0
+        self.sealing = seal(model, self.V1, self.closes, cavitates=False)
+        if self.sealing.stays_closed:
+            self.final = self.sealing.final_closed(model, self.preload)
+            self.final.update(s=load_end["s"], platen_force=load_end["platen_force"], unstable=load_end["unstable"])
+            return False
+        closed = self.sealing.closed
+        self.fluid = Vacuum(model.cavity) if closed else FLUIDS[self.params.fluid](model.cavity, self.V1)
+        return True
+
+    def _unload(self, problem, run) -> None:
+        model, H = self.model, self.params.specimen_height
+        if self.sealing.closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
+            self.arc.hold(problem, -self.preload * H)
+            ramp = model.ctx.constant("vacuum_load")
+            sealing = LoadPath(problem, lambda s: setattr(ramp, "value", s), "seal", check_stability=False,
+                               load_name="vacuum_ramp")
+            sealing.start()
+            sealing.advance(0.0, 1.0, 0.25)
+        self._trace(run, self.arc, problem, "unload", self.terms, self.sealing.sealed_volume, self.events,
+                    self.folds, end=lambda v: v["platen_force"], direction=1)
+        self.final = run.rows.pop()
+
+    def finish(self, run) -> None:
+        final = self.final
+        ended = self.preload if self.sealing.stays_closed else final["eps"]
+        finish(run, self.model, final, self.V1, self.sealing.closed, self.preload, ended, self.events,
+               final["unstable"])
+        if not self.sealing.stays_closed:
+            run.results["eps_m"] = self.preload if self.params.preload == PRELOAD_TO_CLOSURE and self.closes else None
 
     def _trace(self, run, arc, problem, stage: str, terms, V1, events, folds, end, direction: int) -> None:
         """Follow the branch from the current state (its platen held) until ``end`` turns >= 0,
