@@ -71,3 +71,15 @@ def test_there_is_no_import_circle():
 def test_the_package_top_holds_about_a_dozen_modules():
     top = sorted(p.stem for p in PACKAGE.glob("*.py"))
     assert len(top) <= 13, top
+
+
+def test_the_readme_map_names_every_module_of_the_rooms():
+    """The README's architecture map is drawn from the folders: every module of bcfem's top
+    and of its rooms is named in it (scene packages list their own modules)."""
+    readme = (PACKAGE.parent / "README.md").read_text()
+    block = readme.split("## Architecture", 1)[1].split("```")[1]
+    words = set(block.replace("/", " ").replace(",", " ").replace("(", " ").replace(")", " ").split())
+    rooms = {"kinematics", "physics", "contact", "solver", "stability", "path", "run"}
+    modules = [p for p in PACKAGE.glob("*.py")] + [p for room in rooms for p in (PACKAGE / room).glob("*.py")]
+    missing = sorted(p.stem for p in modules if p.stem not in words and p.stem not in ("__init__", "__main__"))
+    assert not missing, f"modules the README's map does not name: {missing}"
