@@ -39,7 +39,7 @@ from bcfem.physics.bcs import component
 from bcfem.physics.cavity import Cavity
 from bcfem.physics.context import Context
 from bcfem.physics.energies import SolidStrain
-from bcfem.physics.fluids import IdealGas, Vacuum
+from bcfem.physics.fluids import IdealGas, IncompressibleLiquid, Vacuum
 from bcfem.physics.materials import NearlyIncompressibleNeoHookean
 from bcfem.solver.problem import Problem
 
@@ -148,7 +148,28 @@ def suction_stability(suctions, beta: float = 47.3 / 101.325, kappa_ratio: float
     return first_onset(model, [*model.solids, Vacuum(Cavity(WALL))], set_suction, suctions, bisections, "s")
 
 
-def first_onset(model: _Sector, terms, set_load, loads, bisections: int, name: str) -> dict:
+def drawn_stability(removed, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4, layer_stiffness: float = 1.0,
+                    sector: CraterSector = CraterSector(), bisections: int = 6, comm=MPI.COMM_WORLD) -> dict:
+    """As :func:`suction_stability`, with the crater's volume drawn off instead: V = (1 - r) V0
+    through the increasing fractions ``removed`` (a liquid's constraint, its pressure p the
+    multiplier; the suction is s = 1 - p). A fold of the suction is passed; the n >= 1 modes do
+    not couple to the pressure, so their onsets in s are those under the dead suction. Rows
+    (r, unstable, s) (collective)."""
+    model = _Sector(sector, beta, kappa_ratio, comm, layer_stiffness)
+    V0 = 2 * math.pi * sector.crater_radius**3 / 3 / SHARE
+    liquid = IncompressibleLiquid(Cavity(WALL), sealed_volume=V0)
+    model.ctx.real_state(liquid.pressure_name).x.array[:] = 1.0
+    pressure = model.ctx.states[liquid.pressure_name]
+    amount = model.ctx.constant(f"{liquid.pressure_name}_sealed")
+
+    def set_removed(r: float) -> None:
+        amount.value = (1 - r) * V0
+
+    return first_onset(model, [*model.solids, liquid], set_removed, removed, bisections, "r",
+                       observe=lambda: 1 - real_value(pressure))
+
+
+def first_onset(model: _Sector, terms, set_load, loads, bisections: int, name: str, observe=None) -> dict:
     """The load raised through the increasing ``loads`` with the wall in frictionless contact with the
     plate (bounds of the variational-inequality solver), the unstable modes counted after every
     step by the inertia of the 3-D tangent (:func:`bcfem.stability.inertia.unstable_modes`: unknowns
@@ -171,7 +192,7 @@ def first_onset(model: _Sector, terms, set_load, loads, bisections: int, name: s
             if not problem.solve():
                 raise _Failed(f"Newton failed at {name} = {load:g} ({problem.failure})")
             count = unstable_modes(problem)
-            rows.append((load, count))
+            rows.append((load, count, *((observe(),) if observe else ())))
             progress(f"crater sector: {name} = {load:.6g}, unstable modes {count}")
             return count
 
@@ -209,11 +230,14 @@ class _Failed(RuntimeError):
 
 def axisymmetric_suction_waves(suctions, waves: int, layer_thickness: float, layer_stiffness: float,
                                size_crater: float, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4,
-                               sector: CraterSector = CraterSector(), comm=MPI.COMM_WORLD) -> list[dict]:
+                               sector: CraterSector = CraterSector(), drawn: bool = False,
+                               comm=MPI.COMM_WORLD) -> list[dict]:
     """The axisymmetric crater (:class:`bcfem.scenes.crater.model.Crater`, the sector's specimen,
     no surface energy or self-contact) at eps = 0 pulled by the suctions ``suctions``: at each,
     the unstable axisymmetric modes and {n: unstable modes} of its n-wave blocks, n = 1..``waves``
-    (:mod:`bcfem.stability.modes`). Rows {"s", "n0", "waves"} until Newton fails (collective)."""
+    (:mod:`bcfem.stability.modes`); with ``drawn``, the loads are the fractions r of the volume
+    drawn off (:func:`drawn_stability`). Rows {"load", "s", "n0", "waves"} until Newton fails
+    (collective)."""
     from bcfem.scenes.crater.model import Crater
     from bcfem.scenes.crater.params import Params
     from bcfem.stability.inertia import unstable_modes
@@ -223,17 +247,26 @@ def axisymmetric_suction_waves(suctions, waves: int, layer_thickness: float, lay
                     waves=waves, specimen_radius=sector.radius, specimen_height=sector.height,
                     crater_radius=sector.crater_radius)
     model = Crater(params, comm)
-    terms = [*model.solids, Vacuum(model.cavity)]
-    suction = model.ctx.constant("vacuum_load")
+    if drawn:  # the volume drawn off, V = (1 - r) V0, the suction s = 1 - p
+        V0 = model.geometry.crater_volume
+        liquid = IncompressibleLiquid(model.cavity, sealed_volume=V0)
+        terms = [*model.solids, liquid]
+        model.ctx.real_state(liquid.pressure_name).x.array[:] = 1.0
+        pressure = model.ctx.states[liquid.pressure_name]
+        amount = model.ctx.constant(f"{liquid.pressure_name}_sealed")
+    else:
+        terms = [*model.solids, Vacuum(model.cavity)]
+        amount = model.ctx.constant("vacuum_load")
     rows = []
     with Problem(model.ctx, terms, model.bcs, f"bcfem_crater_axi_suction_{comm.size}_",
                  {"snes_type": "vinewtonrsls"}, energy_scale=model.energy_scale,
                  line_search_fallbacks=("bt", "cp")) as problem:
         model.contact_bounds(problem)
         check = model.wave_check(problem, terms)
-        for s in suctions:
-            suction.value = s
+        for load in suctions:
+            amount.value = (1 - load) * V0 if drawn else load
             if not problem.solve():
                 break
-            rows.append({"s": s, "n0": unstable_modes(problem), "waves": check()})
+            s = 1 - real_value(pressure) if drawn else load
+            rows.append({"load": load, "s": s, "n0": unstable_modes(problem), "waves": check()})
     return rows
