@@ -14,6 +14,7 @@ from scipy.optimize import brentq
 
 from bcfem.geometry.crater_cell import BOTTOM, SIDE_X, SIDE_Y, TOP, WALL, CraterCell, create_mesh
 from bcfem.scenes import crater, crater_cell
+from bcfem.theory.crater import eshelby_air
 from tests.helpers import refused, same_loads
 
 #: a tiny square cell whose crater is sparse (F = 0.01) and small against the height
@@ -178,3 +179,24 @@ def test_wall_surface_energy_acts_as_on_the_crater():
                                              specimen_radius=2 * params.geometry().spacing), MPI.COMM_WORLD)
     assert summary["F_tilde"] == pytest.approx(isolated["F_tilde"], rel=5e-3)
     assert summary["V1_over_V0"] == pytest.approx(isolated["V1_over_V0"], rel=1e-3)
+
+
+@pytest.mark.slow
+def test_small_preload_approaches_eshelby():
+    """Linear limit: the sparse cell (d = 8a, size-wall 0.45 a) at eps = 0.01 and 0.003 tends to eq. 7.12
+    (Eshelby's cavity in an infinite body, re-derived in bcfem.theory.crater) as eps -> 0, as the isolated
+    crater does (tests/test_crater.py): the deviation shrinks with eps and is below 0.5 % at 0.003.
+    At 0.01 it is within 1 % of the isolated crater in a wide specimen of the same height (R = 2d;
+    the cell's neighbours and plane side faces: +0.6 % on the finest meshes, converged to 1e-5)."""
+    beta = crater_cell.Params().beta
+    deviations, summaries = [], []
+    for eps in (0.01, 0.003):
+        params = crater_cell.Params(filling=math.pi / 64, preload=eps, size_wall=0.45, size_rim=0.15, size_far=1.2)
+        _, summary = crater_cell.solve(params, MPI.COMM_WORLD)
+        summaries.append(summary)
+        deviations.append(abs(summary["F_tilde"] / eshelby_air(eps, beta) - 1))
+    assert deviations[1] < deviations[0] < 0.015
+    assert deviations[1] < 0.005
+    _, wide = crater.solve(crater.Params(preload=0.01, surface_energy=0.0, self_contact=0.0,
+                                         specimen_radius=2 * params.geometry().spacing), MPI.COMM_WORLD)
+    assert summaries[0]["F_tilde"] == pytest.approx(wide["F_tilde"], rel=0.01)
