@@ -69,8 +69,8 @@ class ProbeCycle(DoubleCraterCycle):
             if self.given is None or mine["distance"] < self.given["distance"]:
                 self.given = mine
 
-    def solve(self, run) -> None:
-        super().solve(run)
+    def finish(self, run) -> None:
+        super().finish(run)
         split = run.results["split"]
         first = None if split is None else {"eps": split["eps"], "distance": 0.0, "Z_sidewall": split["Z_sidewall"],
                                             "Z_protuberance": split["Z_protuberance"]}
@@ -102,13 +102,16 @@ def node_pair(params, comm, model_class=None) -> dict:
 class MembraneCycle(DoubleCraterCycle):
     """The cycle of ``--chambers membrane``: the chambers divided by the membrane from ε = 0."""
 
-    def solve(self, run) -> None:
+    def setup(self, run) -> None:
         params = self.params
         self.membrane_at = node_pair(params, self.comm, self.model_class)
         self.cv = params.exchange_before
         self.committed, self.exchange, self.bonded = 0.0, None, False
+        super().setup(run)
         run.results.update(membrane=self.membrane_at)
-        super().solve(run)
+
+    def finish(self, run) -> None:
+        super().finish(run)
         run.results.update(mass_conservation=max(r["fluid_law_residual"] for r in run.rows
                                                  if r["fluid_law_residual"] is not None))
 
@@ -181,18 +184,27 @@ class MembraneCycle(DoubleCraterCycle):
         run.results["switch"] = {"eps": eps, "chambers": self.chambers}
         progress(f"eps_a = {eps:.6g}: C_V = {self.cv:g}")
 
-    def _load(self, run) -> None:
+    def _loading(self) -> list:
+        """To ε_a, where C_V switches (and one cavity splits at the membrane), then on to the
+        preload; a switch at 0 comes first, one at or past the preload after (:meth:`_loaded`)."""
         eps_a, preload = self.membrane_at["eps_a"], self.params.preload
+        seal = self._seal if self.params.seal == "rest" else None
         if 0 < eps_a < preload:
-            self._leg(run, "load", 0.0, eps_a)
-            self._switch(run, eps_a)
-            self._leg(run, "load", eps_a, preload)
-        else:
+            return [self.leg("load", 0.0, eps_a, enter=seal),
+                    self.leg("load", eps_a, preload, enter=lambda: self._switch(self.run, eps_a))]
+
+        def first() -> None:
+            if seal is not None:
+                seal()
             if eps_a == 0:
-                self._switch(run, 0.0)
-            self._leg(run, "load", 0.0, preload)
-            if self.cv != self.params.exchange_after:  # Step 2 with C_V large
-                self._switch(run, preload)
+                self._switch(self.run, 0.0)
+
+        return [self.leg("load", 0.0, preload, enter=first)]
+
+    def _loaded(self) -> None:
+        preload = self.params.preload
+        if not 0 < self.membrane_at["eps_a"] < preload and self.cv != self.params.exchange_after:
+            self._switch(self.run, preload)  # Step 2 with C_V large
         self.committed = preload
 
     # -- observables ----------------------------------------------------------------------

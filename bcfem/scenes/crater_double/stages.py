@@ -19,7 +19,7 @@ from bcfem.mpi import global_sum, real_value
 from bcfem.path.stepping import LoadPath, SteppingError
 from bcfem.physics.cavitation import change_phase, liquid_or_vapour, phase_change
 from bcfem.physics.fluids import FLUIDS
-from bcfem.run.scene import Scene
+from bcfem.run.stages import Stage, StagedScene
 from bcfem.scenes.crater.report import classify, symmetry_breaking
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 from bcfem.scenes.crater_double.model import DoubleCrater
@@ -31,12 +31,13 @@ BISECTIONS = 12
 ONE, C1, C2 = "fluid_pressure", "p_c1", "p_c2"
 
 
-class DoubleCraterCycle(Scene):
+class DoubleCraterCycle(StagedScene):
     """The scene ``crater-double``: :class:`DoubleCrater` pressed to the preload and unloaded
-    to eps = 0 (:mod:`bcfem.run.runner` solves it)."""
+    to eps = 0, planned as legs of the stages ``load`` and ``unload`` (:meth:`plan`); a leg is
+    entered again with new terms wherever the chambers change."""
 
     name = "crater-double"
-    stages = ("load", "unload")
+    stage_names = ("load", "unload")
     columns = COLUMNS
     #: False: the cycle ends at the preload (a probe of the loading path)
     unloads = True
@@ -161,34 +162,70 @@ class DoubleCraterCycle(Scene):
         self.shapes.append({"label": label, "eps": eps, "x": contact._positions().copy(),
                             "segments": contact.segments})
 
-    # -- the path -------------------------------------------------------------------------
-    def solve(self, run) -> None:
-        params = self.params
-        model = self.model = self.model_class(params, self.comm)
+    # -- the plan -------------------------------------------------------------------------
+    @property
+    def problem_options(self) -> dict:
+        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.model.energy_scale,
+                    line_search_fallbacks=LINE_SEARCH_FALLBACKS)
+
+    def setup(self, run) -> None:
+        model = self.model = self.model_class(self.params, self.comm)
         run.watch([model.u])
+        self.run = run
         self.V0 = global_sum(model.volume)
         self.A0 = math.pi * model.geometry.r0**2
         self.chambers, self.sealed, self.vapour = 1, False, [False]
         self.events: list[dict] = []
         self.topology: list[dict] = []
         run.results.update(instabilities=self.events, split=None, merge=None)
-        # on the plate at ambient pressure (the walls' surface energy deforms them a little),
-        # then sealed there, or vented while loading
-        self._leg(run, "load", 0.0, 0.0, settle=True)
-        if params.seal == "rest":
-            self._seal()
-        self._load(run)
-        self._shape("preload", params.preload)
-        if not self.unloads:
-            return
+
+    def plan(self) -> list[Stage]:
+        """On the plate at ambient pressure (the walls' surface energy deforms them a little),
+        sealed there or vented while loading; then loaded, sealed if still vented, unloaded."""
+        stages = [self.leg("load", 0.0, 0.0, settle=True), *self._loading()]
+        if self.unloads:
+            stages.append(self.leg("unload", self.params.preload, 0.0, enter=self._unloading))
+        return stages
+
+    def leg(self, stage: str, start: float, end: float, settle: bool = False, enter=None) -> Stage:
+        """A leg of ``stage`` from ``start`` to ``end`` with the chambers as they are (``enter``:
+        what happens first); at a topology change a bisection locates it, and the leg is
+        entered again from there with the new terms. ``settle``: solve and record the state at
+        ``start`` first."""
+        def begin() -> None:
+            if enter is not None:
+                enter()
+            self._leg_at = {"start": start, "end": end, "fresh": settle}
+
+        return Stage(stage, enter=begin, terms=self._terms, prepare=self.model.contact_bounds,
+                     drive=lambda problem, run: self._leg(problem, run, stage),
+                     ends=f"at eps = {end:g}; entered again where the chambers change")
+
+    def _loading(self) -> list[Stage]:
+        """The loading legs (sealed first with ``--seal rest``)."""
+        seal = self._seal if self.params.seal == "rest" else None
+        return [self.leg("load", 0.0, self.params.preload, enter=seal)]
+
+    def _loaded(self) -> None:
+        """What happens at the preload, before anything else."""
+
+    def _unloading(self) -> None:
+        self._loaded()
+        self._shape("preload", self.params.preload)
         if not self.sealed:
             self._seal()
-        self._leg(run, "unload", params.preload, 0.0)
+
+    def _terms(self) -> list:
+        self._terms_now = self.model.terms(*self._fluids(), *self._more_terms())
+        return self._terms_now
+
+    def finish(self, run) -> None:
+        if not self.unloads:
+            self._loaded()
+            self._shape("preload", self.params.preload)
+            return
         self._shape("unloaded", 0.0)
         self._finish(run)
-
-    def _load(self, run) -> None:
-        self._leg(run, "load", 0.0, self.params.preload)
 
     # -- hooks of a cycle with more terms (:mod:`bcfem.scenes.crater_double.membrane`) ------
     def _more_terms(self) -> list:
@@ -201,68 +238,63 @@ class DoubleCraterCycle(Scene):
     def _accepted(self, eps: float) -> None:
         """Called at every accepted state, after its row."""
 
-    def _leg(self, run, stage: str, start: float, end: float, settle: bool = False) -> None:
-        """From ``start`` to ``end`` with the chambers as they are; at a topology change, a
-        bisection locates it and a new problem goes on from there. ``settle``: solve and
-        record the state at ``start`` first."""
+    def _leg(self, problem, run, stage: str) -> bool:
+        """One problem's part of a leg: to its end (False), or to a change of the chambers,
+        located by bisection (True: the leg goes on from there with a new problem)."""
         params, model = self.params, self.model
-        fresh = settle  # also after a merge, which pools the fluids: the state must be re-solved
-        while True:
-            kwargs = dict(energy_scale=model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
-            terms = model.terms(*self._fluids(), *self._more_terms())
-            with run.stage(stage, model.ctx, terms, model.bcs, {"snes_type": "vinewtonrsls"}, **kwargs) as problem:
-                model.contact_bounds(problem)
-                path = LoadPath(problem, self._set_platen, stage, model.viscosity,
-                                params.beta / model.geometry.r0**2, events=self.events,
-                                max_snaps=params.max_snaps, load_name="eps",
-                                waves=model.wave_check(problem, terms))
-                if fresh:
-                    if not path.solve_at(start, fallbacks=True):
-                        raise SteppingError(f"{stage}: no equilibrium at eps = {start:.6g} "
-                                            f"({'chambers merged' if self.topology else 'at rest'}): "
-                                            f"{problem.failure}", start)
-                    run.record(self.observe(stage, start))
-                    self._accepted(start)
-                path.start()
-                if not self.shapes:  # the walls are known to the self-contact once bound
-                    self._shape("rest", start)
-                before = path.mark(start)
+        start, end, fresh = self._leg_at["start"], self._leg_at["end"], self._leg_at["fresh"]
+        path = LoadPath(problem, self._set_platen, stage, model.viscosity,
+                        params.beta / model.geometry.r0**2, events=self.events,
+                        max_snaps=params.max_snaps, load_name="eps",
+                        waves=model.wave_check(problem, self._terms_now))
+        if fresh:
+            if not path.solve_at(start, fallbacks=True):
+                raise SteppingError(f"{stage}: no equilibrium at eps = {start:.6g} "
+                                    f"({'chambers merged' if self.topology else 'at rest'}): "
+                                    f"{problem.failure}", start)
+            run.record(self.observe(stage, start))
+            self._accepted(start)
+        path.start()
+        if not self.shapes:  # the walls are known to the self-contact once bound
+            self._shape("rest", start)
+        before = path.mark(start)
 
-                def accept(eps):
-                    if self._change():
-                        return True
-                    run.record(self.observe(stage, eps))
-                    self._accepted(eps)
-                    before.update(path.mark(eps))
-                    return False
+        def accept(eps):
+            if self._change():
+                return True
+            run.record(self.observe(stage, eps))
+            self._accepted(eps)
+            before.update(path.mark(eps))
+            return False
 
-                reached = path.through(start, end, params.strain_step, accept)
-                if not self._change():
-                    return
-                eps = path.bisect(before, reached, lambda _: self._change() is not None, BISECTIONS)
-                bracket = abs(path.bracket[1] - path.bracket[0])
-                kind = self._change()
-                if kind == "split":
-                    event = self._split(eps)
-                elif kind == "merge":
-                    event = self._merge(eps)
-                elif kind == "bond":
-                    event = self._bond(eps)
-                else:
-                    event = self._phase_change(eps, kind)
-                event = {"stage": stage, "kind": kind, "bracket": bracket, **event}
-                if kind in ("split", "merge"):
-                    run.results[kind] = run.results[kind] or event
-                # a split leaves the state as it is; a merge pools the fluids and a phase change
-                # swaps a chamber's law, so the state is solved again
-                fresh = kind not in ("split", "bond")
-                self.topology.append(event)
-                progress(f"{stage}: {event['kind']} at eps = {eps:.6g}")
-                self._shape(event["kind"], eps)
-                if not fresh:
-                    run.record(self.observe(stage, eps))
-                    self._accepted(eps)
-                start = eps
+        reached = path.through(start, end, params.strain_step, accept)
+        if not self._change():
+            return False
+        eps = path.bisect(before, reached, lambda _: self._change() is not None, BISECTIONS)
+        bracket = abs(path.bracket[1] - path.bracket[0])
+        kind = self._change()
+        if kind == "split":
+            event = self._split(eps)
+        elif kind == "merge":
+            event = self._merge(eps)
+        elif kind == "bond":
+            event = self._bond(eps)
+        else:
+            event = self._phase_change(eps, kind)
+        event = {"stage": stage, "kind": kind, "bracket": bracket, **event}
+        if kind in ("split", "merge"):
+            run.results[kind] = run.results[kind] or event
+        # a split leaves the state as it is; a merge pools the fluids and a phase change
+        # swaps a chamber's law, so the state is solved again
+        fresh = kind not in ("split", "bond")
+        self.topology.append(event)
+        progress(f"{stage}: {event['kind']} at eps = {eps:.6g}")
+        self._shape(event["kind"], eps)
+        if not fresh:
+            run.record(self.observe(stage, eps))
+            self._accepted(eps)
+        self._leg_at = {"start": eps, "end": end, "fresh": fresh}
+        return True
 
     def _finish(self, run) -> None:
         final = run.rows[-1]
