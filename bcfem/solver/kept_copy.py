@@ -11,7 +11,7 @@ class KeptCopy:
     than the copy (a discrete term added some, e.g. a new contact) is copied afresh. Destroy
     with :meth:`destroy` (collective)."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.matrix: PETSc.Mat | None = None
         self._entries = -1
 
