@@ -45,6 +45,8 @@ from bcfem.solver.problem import Problem
 
 #: the quarter's share of the specimen
 SHARE = 4
+#: halvings of a load step that Newton fails, towards the last stable state
+CUTBACKS = 3
 
 
 class _Sector:
@@ -176,8 +178,9 @@ def first_onset(model: _Sector, terms, set_load, loads, bisections: int, name: s
     on the plate held). The quarter's modes are those of the axisymmetric scene's n-blocks with
     n = 0, 2, 4, ... (cos n theta, symmetric about both mirror planes), one per unstable block. The
     first change of the count is bisected. Returns {"rows": [(load, unstable)], "onset": (load
-    below, load above) or None, "failure": None or why a step failed (the path ends there)}; the
-    states are left at the last stable solution below the onset or the failure."""
+    below, load above) or None, "failure": None or why the last step failed after its cut-backs
+    (the path ends there; a failed bisection step ends the bisection)}; the states are left at the
+    last stable solution below the onset or the failure."""
     from bcfem.stability.inertia import unstable_modes
 
     comm = model.mesh.comm
@@ -204,23 +207,44 @@ def first_onset(model: _Sector, terms, set_load, loads, bisections: int, name: s
                 st.x.array[:] = values
 
         before, saved, failure = 0.0, state(), None
-        try:
-            for load in loads:
-                if solve_at(load) > 0:
-                    below, above = before, load
-                    for _ in range(bisections):
-                        mid = 0.5 * (below + above)
-                        restore(saved)
-                        if solve_at(mid) > 0:
-                            above = mid
-                        else:
-                            below, saved = mid, state()
-                    onset = (below, above)
-                    break
-                before, saved = load, state()
-        except _Failed as error:  # the rows so far stand
-            failure = str(error)
+
+        def count_at(load):
+            """The count at ``load`` solved from the saved state, or None if Newton fails."""
             restore(saved)
+            try:
+                return solve_at(load)
+            except _Failed as error:
+                nonlocal failure
+                failure = str(error)
+                return None
+
+        pending = list(loads)
+        while pending:
+            target = load = pending[0]
+            for _ in range(CUTBACKS + 1):  # near a singular tangent Newton may fail: halve the step
+                count = count_at(load)
+                if count is not None:
+                    break
+                load = 0.5 * (before + load)
+            if count is None:
+                break
+            if count > 0:
+                below, above = before, load
+                for _ in range(bisections):
+                    mid = 0.5 * (below + above)
+                    count = count_at(mid)
+                    if count is None:
+                        break
+                    if count > 0:
+                        above = mid
+                    else:
+                        below, saved = mid, state()
+                onset = (below, above)
+                break
+            before, saved, failure = load, state(), None
+            if load == target:  # else cut back: on to the target from here
+                pending.pop(0)
+        restore(saved)
     return {"rows": rows, "onset": onset, "failure": failure}
 
 
