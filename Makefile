@@ -14,16 +14,12 @@ demo: venv
 PYTEST := $(BIN)/python -m pytest -q -p no:cacheprovider
 MPI_PYTEST := PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q
 
-# the fast tier: term battery, toys, every scene on a tiny mesh, CLI contracts, MPI on small cases.
-# The MPI tier runs beside the serial one (its report follows), so both cores work throughout.
+# the fast tier: term battery, toys, every scene on a tiny mesh, CLI contracts, MPI on small cases
 test: venv
 	$(BIN)/ruff check .
 	$(BIN)/mypy
-	@log=$$(mktemp); \
-	$(MPI_PYTEST) -m "mpi and not slow and not convergence and not demo" tests >$$log 2>&1 & mpi=$$!; \
-	$(PYTEST) --durations=10 tests; serial=$$?; \
-	wait $$mpi; parallel=$$?; echo "== on $(NP) ranks:"; cat $$log; rm -f $$log; \
-	test $$serial -eq 0 -a $$parallel -eq 0
+	./tools/test-fast.sh
+	$(MPI_PYTEST) -m "mpi and not slow and not convergence and not demo and not study" tests
 
 # everything: adds full crater cycles, convergence studies and the demos (serial and on NP ranks)
 test-all: venv
