@@ -46,19 +46,11 @@ class Stage:
 
 class StagedScene(Scene):
     """A scene whose solve is its stages in order. A subclass sets ``name``, ``columns``,
-    ``stage_names`` and ``params``, builds its model in :meth:`setup` and returns its stages
+    ``stages`` (the names it plans) and ``params``, builds its model in :meth:`setup` and returns its stages
     from :meth:`plan`; ``model.ctx``, ``model.bcs`` and :attr:`problem_options` are shared by
     every stage."""
 
-    name: str
-    columns: list[str]
-    stage_names: tuple[str, ...]
-    params: Any
     model: Any = None
-
-    @property
-    def stages(self) -> tuple[str, ...]:
-        return self.stage_names
 
     @property
     def problem_options(self) -> dict:
@@ -79,7 +71,7 @@ class StagedScene(Scene):
     def solve(self, run) -> None:
         self.setup(run)
         stages = self.plan()
-        undeclared = [s.name for s in stages if s.name not in self.stage_names]
+        undeclared = [s.name for s in stages if s.name not in self.stages]
         if undeclared:
             raise ValueError(f"scene {self.name!r} plans the undeclared stages {undeclared}")
         for stage in stages:

@@ -48,7 +48,7 @@ class FundamentalCycle(StagedScene):
     traced by arc-length in the platen's displacement (:meth:`plan`)."""
 
     name = "crater"
-    stage_names = ("load", "unload")
+    stages = ("load", "unload")
     columns = (*COLUMNS, "s", "unstable", "unstable_waves")
 
     def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):

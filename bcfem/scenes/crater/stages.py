@@ -67,7 +67,7 @@ class CraterCycle(StagedScene):
     """
 
     name = "crater"
-    stage_names = ("load", "unload")
+    stages = ("load", "unload")
     columns = COLUMNS
 
     def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):

@@ -27,7 +27,7 @@ class CellCycle(StagedScene):
     (:meth:`plan`; :class:`bcfem.run.stages.StagedScene` runs them)."""
 
     name = "crater-cell"
-    stage_names = ("load", "unload")
+    stages = ("load", "unload")
     columns = COLUMNS
 
     def __init__(self, params: Params, comm):

@@ -37,7 +37,7 @@ class DoubleCraterCycle(StagedScene):
     entered again with new terms wherever the chambers change."""
 
     name = "crater-double"
-    stage_names = ("load", "unload")
+    stages = ("load", "unload")
     columns = COLUMNS
     #: False: the cycle ends at the preload (a probe of the loading path)
     unloads = True

@@ -70,7 +70,7 @@ class DropletSoft(StagedScene):
     ``load`` (the neo-Hookean substrate, the drop's tension ramped to full)."""
 
     name = "droplet-soft"
-    stage_names = ("solve", "load")
+    stages = ("solve", "load")
     columns = COLUMNS
 
     def __init__(self, params: Params, comm):
