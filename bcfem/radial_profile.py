@@ -147,21 +147,29 @@ def parse(text: str) -> float | RadialProfile:
     return RadialProfile(text, inner, kinks=kinks, width=width, values=(inner, outer))
 
 
-def _table(text: str, path: Path, width: float) -> RadialProfile:
+def read_rows(path: Path, columns: str, what: str = "table") -> list[list[float]]:
+    """The rows of finite numbers in the text file ``path`` (whitespace or commas, ``#``
+    comments), each with the fields named in ``columns`` (``'R value'``); ValueError naming the
+    file and line otherwise."""
     try:
-        lines = path.read_text().splitlines()
+        lines = Path(path).read_text().splitlines()
     except OSError as err:
-        raise ValueError(f"cannot read the table {str(path)!r} ({err.strerror})") from None
+        raise ValueError(f"cannot read the {what} {str(path)!r} ({err.strerror})") from None
     rows = []
     for number, line in enumerate(lines, 1):
         fields = line.split("#", 1)[0].replace(",", " ").split()
         if not fields:
             continue
-        if len(fields) != 2:
-            raise ValueError(f"{path}:{number}: a row is 'R value' (got {len(fields)} fields)")
+        if len(fields) != len(columns.split()):
+            raise ValueError(f"{path}:{number}: a row is {columns!r} (got {len(fields)} fields)")
         rows.append([_finite(f, f"{path}:{number}") for f in fields])
     if not rows:
-        raise ValueError(f"the table {str(path)!r} has no rows (R value)")
+        raise ValueError(f"the {what} {str(path)!r} has no rows ({columns})")
+    return rows
+
+
+def _table(text: str, path: Path, width: float) -> RadialProfile:
+    rows = read_rows(path, "R value")
     radii, values = (list(c) for c in zip(*rows))
     _check_radii(radii, text)
     slopes = [0.0, *((v1 - v0) / (r1 - r0) for r0, r1, v0, v1 in zip(radii, radii[1:], values, values[1:])), 0.0]

@@ -112,6 +112,16 @@ class Outline:
         centroid = np.array([np.dot(x + np.roll(x, -1), cross), np.dot(y + np.roll(y, -1), cross)]) / (6 * area)
         return (points - centroid) * math.sqrt(math.pi / area)
 
+    def corners(self) -> np.ndarray:
+        """The corners of the outline's bounding box, counter-clockwise from (min x, min y)."""
+        if self.kind == "polygon":
+            points = self.polygon()
+            (x0, y0), (x1, y1) = points.min(axis=0), points.max(axis=0)
+        else:
+            half = self.semi_axes() if self.curved else tuple(0.5 * side for side in self.sides())
+            (x0, y0), (x1, y1) = (-half[0], -half[1]), half
+        return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+
     def estimated_cells(self) -> float:
         """Triangles of a uniform mesh of the outline (area pi) at this size."""
         return 2.3 * math.pi / self.size**2

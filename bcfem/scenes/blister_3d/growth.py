@@ -31,9 +31,11 @@ _SOLVER = {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": 
 
 class MeshMotion:
     """Moves the mesh's outline nodes by given vectors and its interior by their harmonic
-    extension (P1; interpolated into the geometry's own space, curved cells included)."""
+    extension (P1; interpolated into the geometry's own space, curved cells included), then
+    calls ``moved`` (a term's fields tied to the substrate; a ValueError stops the growth)."""
 
-    def __init__(self, release, edge_facets):
+    def __init__(self, release, edge_facets, moved=None):
+        self.moved_hook = moved  # called after each move: fields tied to the substrate, not the mesh
         space = release.space
         msh = space.mesh
         self.msh = msh
@@ -60,7 +62,15 @@ class MeshMotion:
         self.boundary.x.scatter_forward()
         extension = self.problem.solve()
         self.moved.interpolate(extension)
-        self.msh.geometry.x[:, :2] += self.moved.x.array.reshape(-1, 2)[self.node_of]
+        shift = self.moved.x.array.reshape(-1, 2)[self.node_of]
+        self.msh.geometry.x[:, :2] += shift
+        if self.moved_hook is not None:
+            try:
+                self.moved_hook()
+            except ValueError as err:  # back to where the hook held
+                self.msh.geometry.x[:, :2] -= shift
+                self.moved_hook()
+                raise ContinuationError(f"front growth: {err}") from None
 
 
 def _chain(points: np.ndarray):

@@ -21,7 +21,7 @@ from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension, WettedSubstrate
 from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
 from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, COLUMNS, V0, Params
-from bcfem.scenes.blister_3d.pattern import PatternedWetting, values_of, varies
+from bcfem.scenes.blister_3d.pattern import Map, MappedWetting, PatternedWetting, values_of, varies
 from bcfem.scenes.blister_3d.pattern import at as dgamma_at
 from bcfem.scenes.blister_3d.release import ReleaseRate
 from bcfem.scenes.blister_3d.report import MembraneScene
@@ -45,9 +45,11 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     terms.append(PressureVolume())
     adhesive = params.edge == "adhesive"
     patterned = varies(params.delta_gamma)
+    wetting = None
     if adhesive:  # the liquid's share of the substrate, pi r^2 for the circle: its cost w per area
-        terms.append(PatternedWetting(params.gamma_ls, params.delta_gamma) if patterned
-                     else WettedSubstrate(params.adhesion_cost))
+        wetting = (MappedWetting if isinstance(params.delta_gamma, Map) else PatternedWetting)(
+            params.gamma_ls, params.delta_gamma) if patterned else WettedSubstrate(params.adhesion_cost)
+        terms.append(wetting)
     terms.extend(extra_terms)
 
     guess = FopplStart(V, edge_facets)
@@ -112,7 +114,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
         onset = run.results.get("delamination_onset")
         if not onset or not run.rows:
             return
-        motion = MeshMotion(release, edge_facets)
+        motion = MeshMotion(release, edge_facets, moved=wetting.refresh if isinstance(wetting, MappedWetting) else None)
         start, s0 = onset["V_over_V0"], run.rows[-1]["s"]
         fronts.append((start, release.gather()[0]))
         with run.stage("front", ctx, terms, bcs) as problem:

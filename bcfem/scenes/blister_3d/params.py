@@ -13,7 +13,7 @@ from bcfem.geometry.outline import KINDS, Outline, read_vertices
 from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, describe, require
 from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
 from bcfem.radial_profile import RadialProfile, check_resolved
-from bcfem.scenes.blister_3d.pattern import Pattern, values_of, varies
+from bcfem.scenes.blister_3d.pattern import Map, Pattern, values_of, varies
 from bcfem.scenes.blister_3d.pattern import parse as parse_pattern
 
 SUMMARY = "membrane blister of any outline on a rigid substrate, in 3-D (ch. 10 outlook)"
@@ -38,8 +38,8 @@ Units and normalisations (all inputs and outputs are dimensionless):
   wrinkled_fraction  the area fraction where the taut membrane's minor tension is < 0
 
 With --edge adhesive the film beyond the outline is bonded to the substrate;
-debonding costs alpha + gamma_ls - dgamma per area (dgamma a number, stripes or
-a radial profile: --delta-gamma). The outline is held until the energy release
+debonding costs alpha + gamma_ls - dgamma per area (dgamma a number, stripes, a
+radial profile or a map over the plane: --delta-gamma). The outline is held until the energy release
 rate G somewhere on it reaches that cost (delamination_onset in summary.json,
 with where: front_x, front_y); then, at --front-steps volumes up to --v-max, the
 front moves until G <= cost where it stays and G = cost where it moved (Griffith,
@@ -87,11 +87,13 @@ class Params:
         "release rate somewhere on it reaches the cost of debonding: the onset)", "", EDGES))
     gamma_ls: float = field(default=3.0, metadata=describe(
         "adhesive edge: gamma_ls / (mu_f t0), the liquid-substrate interface energy", bound=Bound(0, 1e4)))
-    delta_gamma: float | Pattern | RadialProfile = field(default=0.5, metadata={**describe(
+    delta_gamma: float | Pattern | RadialProfile | Map = field(default=0.5, metadata={**describe(
         "adhesive edge: dgamma / (mu_f t0), the film-substrate adhesion (debonding a unit area costs "
         "alpha + gamma_ls - dgamma > 0): a number, stripes:PERIOD:LOW:HIGH (a cosine in x), or a "
         "profile of the distance from the centroid as blister-rigid's --adhesion takes it "
-        "(step:R_s:inner:outer[:width], ramp:..., table:FILE[:width]); lengths over R0",
+        "(step:R_s:inner:outer[:width], ramp:..., table:FILE[:width]), or map:FILE, rows 'x y value' "
+        "on a rectangular grid (bilinear between them) that covers the outline's bounding box (a "
+        "front that leaves the map stops the run); lengths over R0 from the outline's centroid",
         bound=Bound(0, 1e4)), "parse": parse_pattern})
     front_steps: int = field(default=8, metadata=describe(
         "adhesive edge: volumes from the onset to --v-max at which the front is moved to equilibrium "
@@ -128,6 +130,13 @@ class Params:
                 "--delta-gamma takes a pattern with --edge adhesive only")
         if isinstance(self.delta_gamma, RadialProfile):
             check_resolved(self.delta_gamma, self.size, "--delta-gamma", f"(--size {self.size:g})")
+        if isinstance(self.delta_gamma, Map):
+            box = self.geometry().corners()
+            require(self.delta_gamma.covers(box),
+                    f"--delta-gamma {self.delta_gamma}: the map [{self.delta_gamma.x[0]:g}, {self.delta_gamma.x[-1]:g}]"
+                    f" x [{self.delta_gamma.y[0]:g}, {self.delta_gamma.y[-1]:g}] must cover the outline's bounding "
+                    f"box [{box[0, 0]:.4g}, {box[2, 0]:.4g}] x [{box[0, 1]:.4g}, {box[2, 1]:.4g}] (lengths over R0 "
+                    "from its centroid)")
         if self.edge == "adhesive":
             require(self.alpha + self.gamma_ls - max(dgamma) > 0,
                     f"--delta-gamma: debonding must cost energy everywhere, alpha + gamma_ls - dgamma > 0 (got "
