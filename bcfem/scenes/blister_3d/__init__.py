@@ -10,11 +10,12 @@ from __future__ import annotations
 from bcfem.scenes.blister_3d.params import COLUMNS, DESCRIPTION, SUMMARY, Params
 
 
-def build(params: Params, comm, extra_terms=()):
-    """The blister of ``params``, for :mod:`bcfem.run.runner`."""
+def build(params: Params, comm, extra_terms=(), mirrored: bool = False):
+    """The blister of ``params``, for :mod:`bcfem.run.runner` (``mirrored``: on a mesh
+    symmetric about both axes)."""
     from bcfem.scenes.blister_3d.model import build as compose
 
-    return compose(params, comm, extra_terms)
+    return compose(params, comm, extra_terms, mirrored)
 
 
 __all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "Params", "build"]

@@ -20,6 +20,7 @@ from bcfem.path.branch import Switch
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension, WettedSubstrate
 from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
+from bcfem.scenes.blister_3d.mirrored import create_mirrored_mesh
 from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, COLUMNS, V0, Params
 from bcfem.scenes.blister_3d.pattern import Map, MappedWetting, PatternedWetting, values_of, varies
 from bcfem.scenes.blister_3d.pattern import at as dgamma_at
@@ -28,9 +29,10 @@ from bcfem.scenes.blister_3d.report import MembraneScene
 from bcfem.scenes.blister_3d.start import FopplStart
 
 
-def build(params: Params, comm, extra_terms=()) -> MembraneScene:
-    """The blister of ``params`` (see :mod:`bcfem.scenes.blister_3d.params`)."""
-    data = create_mesh(params.geometry(), comm)
+def build(params: Params, comm, extra_terms=(), mirrored: bool = False) -> MembraneScene:
+    """The blister of ``params`` (see :mod:`bcfem.scenes.blister_3d.params`); ``mirrored``: on a
+    mesh symmetric about both axes (:mod:`bcfem.scenes.blister_3d.mirrored`)."""
+    data = (create_mirrored_mesh if mirrored else create_mesh)(params.geometry(), comm)
     msh = data.mesh
     V = fem.functionspace(msh, ("Lagrange", params.degree, (3,)))
     u = fem.Function(V, name="displacement")

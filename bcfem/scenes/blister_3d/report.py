@@ -4,6 +4,7 @@ framed in a matplotlib figure like every other PNG of a run."""
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 
@@ -100,16 +101,46 @@ class MembraneScene(BranchScene):
     after: object = None  # callable(run): a stage after the branch (the front's growth), or None
     fronts: list = field(default_factory=list)  # (V/V0, the outline's points) at the onset and each growth step
 
-    stages = ("branch", "front")
+    v0: float = 4.0 * math.pi / 3.0  # the volume of the normalisation V/V0
+
+    stages = ("branch", "stability", "front")
+
+    def __post_init__(self):
+        if self.columns is not None and "unstable_modes" not in self.columns:
+            self.columns = [*self.columns[:-1], "unstable_modes", self.columns[-1]]
 
     def solve(self, run) -> None:
         try:
-            super().solve(run)
+            self._trace_counted(run)
             if self.after:
                 self.after(run)
         finally:  # the converged part is drawn too
             self._surface = gather_surface(self.fields[0], self.fields[1], self.ctx.mesh.comm)
             self._outline = self.release.gather() if self.release else None
+
+    def _trace_counted(self, run) -> None:
+        """:meth:`BranchScene.solve`, with the unstable modes under volume control counted at
+        every accepted point and its bifurcations located
+        (:class:`bcfem.scenes.blister_3d.stability.VolumeStability`)."""
+        from bcfem.path.continuation import ContinuationError
+        from bcfem.run.trace import trace
+        from bcfem.scenes.blister_3d.stability import VolumeStability
+
+        run.watch(self.fields)
+        self.stability = VolumeStability(run.problem("stability", self.ctx, self.terms, self.bcs), self.ctx, self.v0)
+
+        def on_accept(values):
+            self.stability.on_accept(values)
+            run.on_accept(values)
+
+        try:
+            branch, _ = trace(self, on_accept, run)
+        except ContinuationError as err:
+            self._report(run, err.branch)
+            raise
+        finally:
+            run.results.update(self.stability.summary())
+        self._report(run, branch)
 
     def figures(self, rows, summary) -> dict:
         figures = super().figures(rows, summary)

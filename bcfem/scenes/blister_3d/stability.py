@@ -1,0 +1,172 @@
+r"""Stability of the blister under volume control along its arc-length path, and the location
+and shape of its first symmetry-breaking bifurcations.
+
+A liquid-filled blister is volume-controlled: its stable states are minima of the membrane's
+energy among shapes of the same volume. The Hessian of the Lagrangian with the volume
+constraint's natural row is the bordered matrix
+
+.. math:: \begin{pmatrix} K(u, p) & -V'(u) \\ -V'(u)^T & 0 \end{pmatrix},
+
+whose negative eigenvalues are those of K on the tangent space of the constraint plus one for
+the multiplier p (Sylvester's law), so ``unstable_modes`` = negative pivots of its LDLᵀ
+factorisation (MUMPS, global under MPI) - 1 (:func:`bcfem.stability.inertia.unstable_modes`).
+A pressure maximum is no loss of stability under volume control (the axisymmetric blister
+stays stable through it); the count rises where another branch crosses the path, a
+bifurcation, or where the path turns back in volume.
+
+After each accepted point of the arc-length path the count is taken at that point (the states
+the arc-length converged, which are also an equilibrium of the volume-controlled problem). A
+rise is located by bisection in the volume between the two points, each trial solved under
+volume control from the stable side. At the located point the critical mode is found by
+inverse iteration with the bordered matrix (its null vector at the bifurcation), and its
+parity is measured by its moments: on a mirror-symmetric mesh
+(:mod:`bcfem.scenes.blister_3d.mirrored`) a moment of the wrong parity vanishes to round-off.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from bcfem.log import progress
+from bcfem.mpi import global_sum, real_value
+from bcfem.path.branch import ContinuationError
+from bcfem.path.volume_control import VolumeControl
+from bcfem.stability.inertia import unstable_modes
+
+#: the bisection ends when the bracket in V/V0 is narrower than this
+VOLUME_TOL = 1e-6
+#: inverse iterations for the critical mode
+ITERATIONS = 12
+#: the moments that classify a mode of the deflection by its parity about x = 0 and y = 0
+PARITIES = {"even": "1", "odd_in_x": "X", "odd_in_y": "Y", "odd_in_x_and_y": "XY"}
+BROKEN = {"even": "none", "odd_in_x": "x -> -x (the mirror plane x = 0)",
+          "odd_in_y": "y -> -y (the mirror plane y = 0)", "odd_in_x_and_y": "both mirrors"}
+
+
+class VolumeStability:
+    """Counts, locates and shapes the volume-controlled instabilities of a blister's path.
+
+    Args:
+        problem: the blister's terms and boundary conditions with their natural rows (the
+            pressure's row is the volume constraint), on the traced states.
+        ctx: the context of the path's states.
+        v0: the volume of the normalisation (V/V0).
+        volume_tol: the bracket of a located bifurcation in V/V0.
+    """
+
+    def __init__(self, problem, ctx, v0: float, volume_tol: float = VOLUME_TOL):
+        if problem.multipliers != ("pressure",):
+            raise ValueError(f"the stability problem needs the volume constraint's row (multipliers: "
+                             f"{problem.multipliers})")
+        self.problem = problem
+        self.ctx = ctx
+        self.v0 = v0
+        self.volume_tol = volume_tol
+        self.control = VolumeControl.membrane(ctx)
+        self.target = ctx.constant("volume_target")
+        self.pressure = ctx.states["pressure"]
+        #: {V_over_V0, P, bracket, kind, modes_below, modes_above, mode}, in path order
+        self.bifurcations: list[dict] = []
+        #: the critical modes (displacement arrays) of the bifurcations, for a branch switch
+        self.modes: list[np.ndarray] = []
+        self._last: tuple[list[np.ndarray], float, int] | None = None
+        u = ctx.u
+        X = ufl.SpatialCoordinate(ctx.mesh)
+        self._mode = fem.Function(u.function_space, name="critical_mode")
+        kin = ctx.kin
+        w = self._mode[2]
+        shapes = {"even": 1.0 + 0.0 * X[0], "odd_in_x": X[0], "odd_in_y": X[1], "odd_in_x_and_y": X[0] * X[1]}
+        self._moments = {k: fem.form(kin.integral(w * g)) for k, g in shapes.items()}
+        self._shape_norms = {k: math.sqrt(global_sum(fem.form(kin.integral(g * g)))) for k, g in shapes.items()}
+        self._norm = fem.form(kin.integral(ufl.inner(self._mode, self._mode)))
+        self._norm_z = fem.form(kin.integral(w * w))
+
+    def count(self) -> int:
+        """Unstable modes at the current states under volume control (collective)."""
+        return unstable_modes(self.problem)
+
+    def on_accept(self, values: dict) -> None:
+        """Count at an accepted point (into ``values['unstable_modes']``); a rise since the
+        last point is located and recorded. The states and the volume target are left as they
+        were (collective)."""
+        here = self.problem.save()
+        count = self.count()
+        values["unstable_modes"] = count
+        last, self._last = self._last, (here, values["V_over_V0"], count)
+        if last is None or count <= last[2]:
+            return
+        saved_target = float(self.target.value)
+        try:
+            self._locate(last, (here, values["V_over_V0"], count))
+        except ContinuationError as error:  # Newton lost the fundamental path between the points
+            progress(f"stability: the bifurcation between V/V0 = {last[1]:.6g} and {values['V_over_V0']:.6g} "
+                     f"was not located ({error})")
+            self.bifurcations.append({"V_over_V0": 0.5 * (last[1] + values["V_over_V0"]),
+                                      "bracket": abs(values["V_over_V0"] - last[1]), "kind": "unlocated",
+                                      "modes_below": last[2], "modes_above": count, "P": values["P"]})
+        finally:
+            self.problem.restore(here)
+            self.target.value = saved_target
+
+    def _locate(self, below, above) -> None:
+        (state_lo, lo, n_lo), (_, hi, n_hi) = below, above
+        kind = "symmetry-breaking" if hi > lo else "volume fold"
+        while abs(hi - lo) > self.volume_tol:
+            mid = 0.5 * (lo + hi)
+            self.problem.restore(state_lo)
+            self.control.solve_to(self.problem, mid * self.v0)
+            n = self.count()
+            if n > n_lo:
+                hi, n_hi = mid, n
+            else:
+                lo, state_lo = mid, self.problem.save()
+        self.problem.restore(state_lo)
+        self.target.value = lo * self.v0
+        mode, parity = self.critical_mode()
+        self.modes.append(mode)
+        entry = {"V_over_V0": 0.5 * (lo + hi), "P": real_value(self.pressure), "bracket": abs(hi - lo),
+                 "kind": kind if parity["class"] != "even" else "symmetric", "modes_below": n_lo,
+                 "modes_above": n_hi, "mode": parity}
+        self.bifurcations.append(entry)
+        progress(f"stability: {entry['kind']} bifurcation at V/V0 = {entry['V_over_V0']:.7g}, P = {entry['P']:.7g}"
+                 f" (modes {n_lo} -> {n_hi}); its mode breaks {parity['breaks']}")
+
+    def critical_mode(self) -> tuple[np.ndarray, dict]:
+        """The null vector of the bordered matrix at the current states (inverse iteration,
+        from a start with a part in every parity class), normalised to unit mean square
+        displacement, with its parity (collective)."""
+        problem = self.problem
+        states = [fem.Function(s.function_space) for s in problem.states]
+        iu = problem.names.index("displacement")
+        start = lambda x: np.vstack([0.1 * x[1], 0.1 * x[0], 1.0 + x[0] + x[1] + x[0] * x[1] + x[0] ** 2])  # noqa: E731
+        states[iu].interpolate(start)
+        for bc in problem.bcs:
+            bc.set(states[iu].x.array, alpha=0.0)
+        for _ in range(ITERATIONS):
+            rhs = problem.vector_from([states[iu] if k == iu else fem.Function(s.function_space)
+                                       for k, s in enumerate(problem.states)])
+            y = problem.solve_jacobian(rhs)
+            problem.functions_from(y, states)
+            rhs.destroy()
+            y.destroy()
+            self._mode.x.array[:] = states[iu].x.array
+            states[iu].x.array[:] /= math.sqrt(global_sum(self._norm))
+        self._mode.x.array[:] = states[iu].x.array
+        return self._mode.x.array.copy(), self.parity()
+
+    def parity(self) -> dict:
+        """The moments of the mode's deflection w with 1, X, Y and XY, each over the norms of
+        w and of the shape: the parity class is the largest; the others vanish on a mirrored
+        mesh."""
+        norm = math.sqrt(global_sum(self._norm_z))
+        moments = {k: global_sum(form) / (norm * self._shape_norms[k]) for k, form in self._moments.items()}
+        dominant = max(moments, key=lambda k: abs(moments[k]))
+        return {"class": dominant, "breaks": BROKEN[dominant],
+                **{f"moment_{PARITIES[k]}": value for k, value in moments.items()}}
+
+    def summary(self) -> dict:
+        return {"bifurcations": self.bifurcations}
