@@ -20,9 +20,10 @@ from dolfinx.fem.petsc import NonlinearProblem, assign
 
 from bcfem import interrupt
 from bcfem.physics.protocols import DiscreteTerm
-from bcfem.solver import options, petsc_events
+from bcfem.solver import fieldsplit, options, petsc_events
 from bcfem.solver.algebra import ConvergedAlgebra
 from bcfem.solver.assembly import Assembly
+from bcfem.solver.fieldsplit import FieldSplit
 from bcfem.solver.newton_cycles import RepeatedIterates
 from bcfem.solver.reduced_lu import ReducedLU
 
@@ -89,6 +90,10 @@ class Problem(ConvergedAlgebra):
                                          petsc_options_prefix=prefix, petsc_options=self.options,
                                          jit_options=jit_options, entity_maps=ctx.entity_maps or None)
         self.snes: PETSc.SNES = self._nlp.solver
+        #: the user's field split (``pc_type fieldsplit``), its splits from the states' spaces
+        self.field_split = FieldSplit(self) if self.options.get("pc_type") == fieldsplit.TYPE else None
+        if self.field_split is not None:
+            self.field_split.configure(self.snes.getKSP().getPC())
         self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
             else tuple(line_search_fallbacks)
         self.iterations = 0
@@ -326,6 +331,16 @@ class Problem(ConvergedAlgebra):
             factor = "cholesky" if self.symmetric_tangent and solver == "mumps" else "lu"
             pc.setType("python")
             pc.setPythonContext(ReducedLU(self.snes, solver, self.prefix, factor))
+        elif self.snes.getType() == "vinewtonrsls" and self.field_split is not None:
+            # the user's Krylov method on the reduced system, its preconditioner the split of
+            # the full-size one (the index sets stay valid on every active set)
+            pc = self.snes.getKSP().getPC()
+            pc.setType("python")
+            # not the user's prefix: a reset of the KSP on a new active set re-reads the options,
+            # and their pc_type would replace this PC
+            pc.setOptionsPrefix(self.prefix + "reduced_")
+            inner = fieldsplit.reduced_inner_ksp(self, self.field_split)
+            pc.setPythonContext(ReducedLU(self.snes, "", self.prefix, inner=inner))
 
     def kept(self, key: str, make):
         """The resource ``key`` of this problem, made by ``make()`` on first use and closed
@@ -356,6 +371,9 @@ class Problem(ConvergedAlgebra):
         if self._nlp is not None and self.snes.getKSP().getPC().getType() == "python":
             self.snes.getKSP().getPC().getPythonContext().destroy()  # ReducedLU (set_bounds)
         self.assembly.destroy()
+        if self.field_split is not None:
+            self.field_split.destroy()
+            self.field_split = None
         for vec in self._bounds:
             vec.destroy()
         self._bounds = ()

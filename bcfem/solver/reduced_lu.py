@@ -28,15 +28,21 @@ class ReducedLU:
             user's ``-<prefix>mat_mumps_*`` options apply to it).
         factor: ``lu``, or ``cholesky`` (LDL^T, for MUMPS a symmetric indefinite one) when the
             Jacobian is symmetric: the identity rows and columns keep the symmetry.
+        inner: instead of the factorisation, this KSP applied to the full-size system (e.g. one
+            application of a field split: :mod:`bcfem.solver.fieldsplit`); it is destroyed with
+            this PC.
     """
 
-    def __init__(self, snes: PETSc.SNES, solver_type: str, prefix: str, factor: str = "lu"):
+    def __init__(self, snes: PETSc.SNES, solver_type: str, prefix: str, factor: str = "lu",
+                 inner: PETSc.KSP | None = None):
         self.snes = snes
-        self.ksp = PETSc.KSP().create(snes.comm)
-        self.ksp.setOptionsPrefix(prefix)
-        self.ksp.setType("preonly")
-        self.ksp.getPC().setType(factor)
-        self.ksp.getPC().setFactorSolverType(solver_type)
+        if inner is None:
+            inner = PETSc.KSP().create(snes.comm)
+            inner.setOptionsPrefix(prefix)
+            inner.setType("preonly")
+            inner.getPC().setType(factor)
+            inner.getPC().setFactorSolverType(solver_type)
+        self.ksp = inner
         self._copy = KeptCopy()
         self._inactive: np.ndarray | None = None
         self._held: np.ndarray | None = None
