@@ -17,10 +17,13 @@ which PETSc allows for two splits only. In ``p`` they enter the Schur complement
 preconditioner (``selfp``: C - B diag(A)^-1 Bᵀ) keeps their dense rows, and whose solve
 (a Krylov method by options) handles them exactly.
 
-Under ``vinewtonrsls`` the Newton step solves the system reduced to the inactive set; the
-splits are applied to the full-size system with the held rows and columns set to the identity
-(:class:`bcfem.solver.reduced_lu.ReducedLU`), so that the index sets and the near-nullspace
-stay valid on every active set.
+Under ``vinewtonrsls`` the Newton step solves the system reduced to the inactive set. PETSc
+(3.25) would restrict the splits to it, but resets the PC first when the set changes, and the
+index sets given in code are gone by then ("must have at least two fields, not 0"). Here the
+user's Krylov method solves the reduced system, and its preconditioner applies the split to the
+full-size system with the held rows and columns set to the identity
+(:class:`bcfem.solver.reduced_lu.ReducedLU`), on which the index sets and the near-nullspace
+stay valid for every active set.
 """
 
 from __future__ import annotations
@@ -60,12 +63,11 @@ def rigid_body_modes(problem: Problem, names: list[str], rows: np.ndarray) -> PE
     gdim = problem.ctx.mesh.geometry.dim
     count = 3 if gdim == 2 else 6
     modes = np.zeros((count, rows.size))
-    position = {int(r): k for k, r in enumerate(rows)}
     for name in names:
         space = problem.state(name).function_space
         nodes = space.dofmap.index_map.size_local
         x = space.tabulate_dof_coordinates()[:nodes, :gdim]
-        at = np.array([position[int(r)] for r in owned_rows(problem, name)]).reshape(nodes, gdim)
+        at = np.searchsorted(rows, owned_rows(problem, name)).reshape(nodes, gdim)  # rows is sorted
         for i in range(gdim):
             modes[i, at[:, i]] = 1.0
         # rotations about each axis: (-y, x), and in 3-D also (z, -x) and (-z, y) pairs
