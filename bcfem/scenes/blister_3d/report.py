@@ -102,8 +102,9 @@ class MembraneScene(BranchScene):
     fronts: list = field(default_factory=list)  # (V/V0, the outline's points) at the onset and each growth step
 
     v0: float = 4.0 * math.pi / 3.0  # the volume of the normalisation V/V0
+    follow: bool = False  # trace the branch off the first located bifurcation too (broken.csv)
 
-    stages = ("branch", "stability", "front")
+    stages = ("branch", "stability", "broken", "front")
 
     def __post_init__(self):
         if self.columns is not None and "unstable_modes" not in self.columns:
@@ -141,6 +142,41 @@ class MembraneScene(BranchScene):
         finally:
             run.results.update(self.stability.summary())
         self._report(run, branch)
+        if self.follow and self.stability.modes:
+            self._follow(run)
+
+    def _follow(self, run) -> None:
+        """The branch off the first bifurcation, from the switch to the end (``broken.csv``;
+        ``broken_branch`` in summary.json)."""
+        from bcfem.path.continuation import ContinuationError
+        from bcfem.scenes.blister_3d.stability import follow_broken
+
+        arc = self.arc_length()
+        problem = run.problem("broken", self.ctx, self.terms, self.bcs, self.petsc_options, rows=arc.rows(),
+                              energy_scale=self.energy_scale)
+
+        def observe():
+            return {**self.observe(), **self.stability.offsets()}
+
+        def on_accept(values):
+            values["unstable_modes"] = self.stability.count()
+
+        error = None
+        try:
+            broken = follow_broken(arc, problem, self.stability, observe, self.end, on_accept, self.guard,
+                                   progress_keys=("V_over_V0", "P", "centroid_x", "centroid_y"))
+        except ContinuationError as err:
+            broken, error = err.branch, str(err)
+        self._broken = broken.rows
+        last = broken.rows[-1] if broken.rows else {}
+        run.results["broken_branch"] = {
+            "from_V_over_V0": self.stability.bifurcations[0]["V_over_V0"], "points": len(broken.rows),
+            "error": error, "limit_points": [{**lp.values, "kind": lp.kind} for lp in broken.limit_points],
+            **{key: last[key] for key in ("V_over_V0", "P", "centroid_x", "centroid_y", "unstable_modes")
+               if key in last}}
+
+    def tables(self, rows, summary) -> dict[str, list[dict]]:
+        return {"broken.csv": self._broken} if getattr(self, "_broken", None) else {}
 
     def figures(self, rows, summary) -> dict:
         figures = super().figures(rows, summary)

@@ -71,8 +71,10 @@ class VolumeStability:
         self.pressure = ctx.states["pressure"]
         #: {V_over_V0, P, bracket, kind, modes_below, modes_above, mode}, in path order
         self.bifurcations: list[dict] = []
-        #: the critical modes (displacement arrays) of the bifurcations, for a branch switch
+        #: the critical modes (displacement arrays) of the bifurcations, and the states on the
+        #: stable side of each, for a branch switch (:func:`follow_broken`)
         self.modes: list[np.ndarray] = []
+        self.states: list[dict[str, np.ndarray]] = []
         self._last: tuple[list[np.ndarray], float, int] | None = None
         u = ctx.u
         X = ufl.SpatialCoordinate(ctx.mesh)
@@ -83,6 +85,8 @@ class VolumeStability:
         self._moments = {k: fem.form(kin.integral(w * g)) for k, g in shapes.items()}
         self._shape_norms = {k: math.sqrt(global_sum(fem.form(kin.integral(g * g)))) for k, g in shapes.items()}
         self._norm = fem.form(kin.integral(ufl.inner(self._mode, self._mode)))
+        z = u[2]
+        self._offsets = [fem.form(kin.integral(z * X[i])) for i in range(2)] + [fem.form(kin.integral(z))]
         self._norm_z = fem.form(kin.integral(w * w))
 
     def count(self) -> int:
@@ -128,6 +132,7 @@ class VolumeStability:
         self.target.value = lo * self.v0
         mode, parity = self.critical_mode()
         self.modes.append(mode)
+        self.states.append({n: x.copy() for n, x in zip(self.problem.names, state_lo)})
         entry = {"V_over_V0": 0.5 * (lo + hi), "P": real_value(self.pressure), "bracket": abs(hi - lo),
                  "kind": kind if parity["class"] != "even" else "symmetric", "modes_below": n_lo,
                  "modes_above": n_hi, "mode": parity}
@@ -156,7 +161,11 @@ class VolumeStability:
             self._mode.x.array[:] = states[iu].x.array
             states[iu].x.array[:] /= math.sqrt(global_sum(self._norm))
         self._mode.x.array[:] = states[iu].x.array
-        return self._mode.x.array.copy(), self.parity()
+        parity = self.parity()
+        if parity[f"moment_{PARITIES[parity['class']]}"] < 0:  # one sign on every rank count: the
+            self._mode.x.array[:] *= -1  # moment that classifies the mode is positive
+            parity = self.parity()
+        return self._mode.x.array.copy(), parity
 
     def parity(self) -> dict:
         """The moments of the mode's deflection w with 1, X, Y and XY, each over the norms of
@@ -168,5 +177,37 @@ class VolumeStability:
         return {"class": dominant, "breaks": BROKEN[dominant],
                 **{f"moment_{PARITIES[k]}": value for k, value in moments.items()}}
 
+    def offsets(self) -> dict:
+        """The deflection's centroid, (∫ z X dA, ∫ z Y dA) / ∫ z dA: zero on a symmetric shape,
+        its sign the side a broken one bulges to (collective)."""
+        x, y, total = (global_sum(form) for form in self._offsets)
+        return {"centroid_x": x / total, "centroid_y": y / total}
+
     def summary(self) -> dict:
         return {"bifurcations": self.bifurcations}
+
+
+def follow_broken(arc, problem, stability: VolumeStability, observe, end, on_accept=None, guard=None,
+                  index: int = 0, progress_keys=()):
+    """The branch that bifurcates at ``stability``'s bifurcation ``index``, traced by ``arc``
+    on ``problem`` (built with ``arc.rows()``) until ``end`` turns positive.
+
+    The switch is the arc-length's own predictor-corrector with the critical mode φ as the
+    tangent: from the stable-side state, the corrector solves on the hyperplane through
+    state + ds φ normal to φ, which the fundamental branch crosses only at the bifurcation, so
+    Newton lands on the other branch. The mode's sign is fixed by its moments (the same on
+    any number of ranks), so every run takes the same side. Returns the
+    :class:`bcfem.path.branch.Branch` from the switch (collective)."""
+    names = problem.names
+    base = [stability.states[index][n].copy() for n in names]
+    mode = [np.zeros_like(b) for b in base]
+    mode[names.index("displacement")][:] = stability.modes[index]
+    tangent = [m / arc._length(problem, mode) for m in mode]
+    ds = arc.params.ds
+    while not arc._solve_at(problem, base, tangent, ds):
+        ds *= 0.5
+        if ds < arc.params.ds_min:
+            raise ContinuationError("no converged point off the bifurcation along its mode")
+    progress(f"stability: switched onto the broken branch at V/V0 = "
+             f"{stability.bifurcations[index]['V_over_V0']:.7g} (step {ds:.3g} along the mode)")
+    return arc.trace(problem, observe, end, progress_keys, on_accept=on_accept, guard=guard)
