@@ -96,7 +96,7 @@ def _run(parser, args, module, params, comm) -> int:
         try:
             summary = runner.run(scene, args.out, comm, plots=args.plots)
         except interrupt.Interrupted as err:
-            if not hasattr(err, "run"):  # before the solve began: still a status on disk
+            if err.run is None:  # before the solve began: still a status on disk
                 runner.write_unsolved(args.out, args.scene, params, err, comm)
             raise
         except runner.SolveError as err:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import signal
 from contextlib import contextmanager
+from typing import Any
 
 from mpi4py import MPI
 
@@ -29,6 +30,8 @@ class Interrupted(BaseException):
     def __init__(self, signum: int):
         super().__init__(signal.Signals(signum).name)
         self.signum = signum
+        #: the interrupted solve's record (``bcfem.run.runner.Run``), once the solve had begun
+        self.run: Any = None
 
     @property
     def exit_code(self) -> int:

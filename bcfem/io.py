@@ -18,6 +18,7 @@ import math
 import os
 import shutil
 import tempfile
+from collections.abc import Sequence
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -60,7 +61,7 @@ def _atomic_write(path: Path, write) -> None:
     _record(path)
 
 
-def write_csv(path, rows: list[dict], comm, columns: list[str] | None = None) -> None:
+def write_csv(path, rows: list[dict], comm, columns: Sequence[str] | None = None) -> None:
     """Write ``rows`` (dicts) as CSV on rank 0; columns default to the first row's keys."""
     if comm.rank != 0:
         return

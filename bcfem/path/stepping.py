@@ -33,12 +33,16 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from time import perf_counter
+from typing import TYPE_CHECKING
 
 from bcfem.log import progress
 from bcfem.path.relaxation import relax
 from bcfem.path.roots import bracketed_root
 from bcfem.physics.viscosity import Viscosity
 from bcfem.stability.inertia import unstable_modes
+
+if TYPE_CHECKING:
+    from bcfem.solver.problem import Problem
 
 
 class SteppingError(RuntimeError):
@@ -75,7 +79,7 @@ class LoadPath:
         Both change where a path that loses stability lands, so they are off by default.
     """
 
-    problem: object
+    problem: Problem
     set_load: Callable[[float], None]
     stage: str
     viscosity: Viscosity | None = None
@@ -96,6 +100,7 @@ class LoadPath:
     adapt_steps: bool = False
     held: tuple = ()
     _previous: tuple | None = field(default=None, init=False, repr=False)
+    _saved: list = field(default_factory=list, init=False, repr=False)
 
     def solve_at(self, value: float, fallbacks: bool) -> bool:
         self.set_load(value)

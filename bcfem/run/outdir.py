@@ -26,7 +26,7 @@ def lock(out: Path, comm) -> bool:
     """Create ``out`` and take its lock (collective); raises :class:`OutDirError` before
     anything is written if ``out`` is no directory or another run holds it. Returns whether
     ``out`` was created (for :func:`unlock`)."""
-    outcome = None
+    outcome: bool | str | None = None
     if comm.rank == 0:
         try:
             outcome = _lock(Path(out))

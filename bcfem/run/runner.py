@@ -47,6 +47,11 @@ class SolveError(RuntimeError):
         self.run = run
 
 
+def _parameters(params) -> dict:
+    """A scene's parameters as a dict, for ``summary.json``."""
+    return asdict(params) if is_dataclass(params) and not isinstance(params, type) else {}
+
+
 def versions() -> dict:
     from petsc4py import PETSc
 
@@ -68,6 +73,7 @@ class Run:
         petsc_options: effective options of every stage's problem, by full name.
         dofs: the largest global size of the stages' problems.
         newton_iterations: over every stage.
+        summary: the run's ``summary.json``, set when the solve ends (:func:`solve`).
     """
 
     def __init__(self, scene: Scene, comm, fields_path: Path | None = None):
@@ -82,6 +88,7 @@ class Run:
         self.newton_iterations = 0
         self.failed_solves = 0
         self.timings = dict.fromkeys(TIMED, 0.0)
+        self.summary: dict = {}
         self._problems: list[Problem] = []
 
     def prefix(self, stage: str) -> str:
@@ -166,8 +173,8 @@ class Run:
 def solve(scene: Scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
     """Solve ``scene``; returns (the run, its summary). When the path cannot go on, raises
     :class:`SolveError` (with the run, whose ``summary`` says ``failed``); on a signal
-    :class:`~bcfem.interrupt.Interrupted` (``status`` ``interrupted``); on any other
-    exception that exception, with the run as its ``run`` (``failed``, with the traceback).
+    :class:`~bcfem.interrupt.Interrupted` (``status`` ``interrupted``, the run as its ``run``);
+    on any other exception a :class:`SolveError` from it (``failed``, with the traceback).
     With ``fields_path`` the fields the scene watches are written there (VTX)."""
     t0 = time.perf_counter()
     run = Run(scene, comm, fields_path)
@@ -193,7 +200,7 @@ def solve(scene: Scene, comm, fields_path: Path | None = None) -> tuple[Run, dic
         "status": status,
         "error": error,
         **({"traceback": "".join(traceback.format_exception(raised))} if status == "failed" and raised else {}),
-        "parameters": asdict(params) if is_dataclass(params) else {},
+        "parameters": _parameters(params),
         **run.results,
         "steps": len(run.rows),
         "newton_iterations": run.newton_iterations,
@@ -205,11 +212,11 @@ def solve(scene: Scene, comm, fields_path: Path | None = None) -> tuple[Run, dic
         "versions": versions(),
         "petsc_options": run.petsc_options,
     }
-    if raised is not None:
+    if isinstance(raised, interrupt.Interrupted):
         raised.run = run
         raise raised
     if error:
-        raise SolveError(error, run)
+        raise SolveError(error, run) from raised
     return run, run.summary
 
 
@@ -246,8 +253,8 @@ def run(scene: Scene, out: Path, comm, plots: bool = True) -> dict:
     with io.recording() as written:
         try:
             solved, summary = solve(scene, comm, out / "fields.bp")
-        except (Exception, interrupt.Interrupted) as err:
-            if not hasattr(err, "run"):
+        except (SolveError, interrupt.Interrupted) as err:
+            if err.run is None:
                 raise
             failure, solved, summary = err, err.run, err.run.summary
         with interrupt.deferred():  # the results of a signalled run are written all the same
@@ -271,12 +278,13 @@ def write_unsolved(out: Path, name: str, params, error: BaseException, comm) -> 
     with the traceback, or ``interrupted``."""
     out = Path(out)
     previous = outdir.files_of_last_run(out) if comm.rank == 0 else []
+    summary: dict
     if isinstance(error, interrupt.Interrupted):
         summary = {"scene": name, "status": "interrupted", "error": f"interrupted by {error}"}
     else:
         summary = {"scene": name, "status": "failed", "error": f"internal error: {type(error).__name__}: {error}",
                    "traceback": "".join(traceback.format_exception(error))}
-    summary["parameters"] = asdict(params) if is_dataclass(params) else {}
+    summary["parameters"] = _parameters(params)
     with interrupt.deferred():
         _write_summary(out, summary, [], previous, comm)
     return summary

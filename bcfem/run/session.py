@@ -52,7 +52,7 @@ class Session:
             raise ValueError("the scene is not built on this session's model")
         if scene.begin is not None:
             return branch_of(scene)
-        if self.problem is None:
+        if self.problem is None or self.arc is None:
             self.arc = ArcLength(scene.ctx, scene.load, scene.continuation, scene.load_scale)
             self.problem = Problem(scene.ctx, scene.terms, scene.bcs, scene.prefix, scene.petsc_options,
                                    rows={**scene.rows, **self.arc.rows()}, energy_scale=scene.load_scale)

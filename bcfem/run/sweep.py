@@ -149,11 +149,11 @@ def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
         raise ValueError(f"--grid: {total} points, more than {MAX_POINTS}")
     points = []
     for combo in itertools.product(*(a[1] for a in axes)):
-        values = dict(zip(names, (v if isinstance(v, str) else float(v) for v in combo)))
+        setting = dict(zip(names, (v if isinstance(v, str) else float(v) for v in combo)))
         try:
-            points.append((values, dataclasses.replace(base, **values)))
+            points.append((setting, dataclasses.replace(base, **setting)))
         except ValueError as err:
-            raise ValueError(f"--grid point {point_key(values)}: {err}") from None
+            raise ValueError(f"--grid point {point_key(setting)}: {err}") from None
     return points
 
 def _budgets(params) -> dict:

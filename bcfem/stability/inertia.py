@@ -76,8 +76,10 @@ class TangentInertia:
         if self._copy.update(jacobian):
             self._inertia.close()  # its analysis belonged to the matrix before
             self.analyses += 1
-        self._copy.matrix.zeroRowsColumns(rows, diag=1.0)
-        return self._inertia.negative(self._copy.matrix)
+        matrix = self._copy.matrix
+        assert matrix is not None  # update() made it
+        matrix.zeroRowsColumns(rows, diag=1.0)
+        return self._inertia.negative(matrix)
 
     def close(self) -> None:
         self._inertia.close()
@@ -108,12 +110,12 @@ class Inertia:
         """Negative eigenvalues of ``A``, a matrix whose values may have changed since the
         last count (a new matrix object means a new analysis)."""
         A.setOption(PETSc.Mat.Option.SYMMETRIC, True)
-        fresh = self._ksp is None or A.handle != self._matrix.handle
-        if fresh:
-            self._create(A)
+        ksp, fresh = self._ksp, self._ksp is None or self._matrix is None or A.handle != self._matrix.handle
+        if ksp is None or fresh:
+            ksp = self._create(A)
         try:
-            self._ksp.setOperators(A)  # new values: a numerical factorisation only
-            self._ksp.setUp()  # MUMPS reads its options at the analysis
+            ksp.setOperators(A)  # new values: a numerical factorisation only
+            ksp.setUp()  # MUMPS reads its options at the analysis
         except PETSc.Error:
             self.close()  # a failed factorisation would otherwise stick to the PC
             raise
@@ -121,13 +123,13 @@ class Inertia:
             if fresh:
                 for key, _ in self._OPTIONS:
                     PETSc.Options().delValue(self.prefix + key)
-        negative, _, _ = self._ksp.getPC().getFactorMatrix().getInertia()
+        negative, _, _ = ksp.getPC().getFactorMatrix().getInertia()
         return int(negative)
 
     # no ScaLAPACK root (ICNTL 13): a global inertia; detect null pivots rather than fail (24)
     _OPTIONS = (("mat_mumps_icntl_13", 1), ("mat_mumps_icntl_24", 1))
 
-    def _create(self, A: PETSc.Mat) -> None:
+    def _create(self, A: PETSc.Mat) -> PETSc.KSP:
         self.close()
         opts = PETSc.Options()
         for key, value in self._OPTIONS:
@@ -147,6 +149,7 @@ class Inertia:
                 opts.delValue(self.prefix + key)
             raise
         self._ksp, self._matrix = ksp, A
+        return ksp
 
     def close(self) -> None:
         if self._ksp is not None:

@@ -157,7 +157,7 @@ class ModeAnalysis:
         self.terms = [t for t in terms if not isinstance(t, DiscreteTerm)]
         self.prefix = prefix
         self.n = fem.Constant(ctx.mesh, default_scalar_type(2.0))
-        self._forms = {}  # n = 1 (with the translation multiplier) and n >= 2
+        self._forms: dict[str, dict] = {}  # n = 1 (with the translation multiplier) and n >= 2
         base_space = ctx.u.function_space
         self._base_bs = base_space.dofmap.index_map_bs
         self._held = [bc.dof_indices()[0] for bc in bcs]
@@ -201,7 +201,7 @@ class ModeAnalysis:
         V = compiled["space"]
         bs = self._base_bs
         on_axis = np.flatnonzero(np.isclose(compiled["nodes"][:, 0], 0.0, atol=1e-12))
-        fixed = {k: [] for k in range(3)}
+        fixed: dict[int, list] = {k: [] for k in range(3)}
         for dofs in [*self._held, *([np.asarray(held)] if held is not None else [])]:
             nodes, comps = np.divmod(np.asarray(dofs, dtype=np.int64), bs)
             for k in range(bs):
