@@ -35,13 +35,13 @@ from petsc4py import PETSc
 import numpy as np
 
 if TYPE_CHECKING:
-    from bcfem.solver.problem import Problem
+    from bcfem.solver.algebra import ConvergedAlgebra
 
 #: the option value that selects the split
 TYPE = "fieldsplit"
 
 
-def split_names(problem: Problem) -> dict[str, list[str]]:
+def split_names(problem: ConvergedAlgebra) -> dict[str, list[str]]:
     """The states of each split (``u``, ``p``), by their function spaces (see the module)."""
     gdim = problem.ctx.mesh.geometry.dim
     vector = [n for n, s in zip(problem.names, problem.states)
@@ -50,14 +50,14 @@ def split_names(problem: Problem) -> dict[str, list[str]]:
     return {"u": vector, "p": [n for n in problem.names if n not in vector]}
 
 
-def owned_rows(problem: Problem, name: str) -> np.ndarray:
+def owned_rows(problem: ConvergedAlgebra, name: str) -> np.ndarray:
     """The global rows of the dofs of state ``name`` this rank owns, in dof order."""
     space = problem.state(name).function_space
     owned = space.dofmap.index_map.size_local * space.dofmap.index_map_bs
     return problem.global_indices(name)[:owned]
 
 
-def rigid_body_modes(problem: Problem, names: list[str], rows: np.ndarray) -> PETSc.NullSpace:
+def rigid_body_modes(problem: ConvergedAlgebra, names: list[str], rows: np.ndarray) -> PETSc.NullSpace:
     """The translations and rotations of the vector states ``names`` (zero on any other row of
     the split ``rows``), orthonormalised: GAMG's near-nullspace of an elastic block."""
     gdim = problem.ctx.mesh.geometry.dim
@@ -70,7 +70,7 @@ def rigid_body_modes(problem: Problem, names: list[str], rows: np.ndarray) -> PE
         at = np.searchsorted(rows, owned_rows(problem, name)).reshape(nodes, gdim)  # rows is sorted
         for i in range(gdim):
             modes[i, at[:, i]] = 1.0
-        # rotations about each axis: (-y, x), and in 3-D also (z, -x) and (-z, y) pairs
+        # rotations in the planes (x, y), (y, z), (z, x): (-y, x, 0), (0, -z, y), (z, 0, -x)
         planes = [(0, 1)] if gdim == 2 else [(0, 1), (1, 2), (2, 0)]
         for k, (i, j) in enumerate(planes):
             modes[gdim + k, at[:, i]] = -x[:, j]
@@ -91,10 +91,11 @@ def rigid_body_modes(problem: Problem, names: list[str], rows: np.ndarray) -> PE
 
 
 class FieldSplit:
-    """The index sets ``u`` and ``p`` of a problem's blocked system, and the rigid-body
-    near-nullspace of ``u``, for PETSc's ``fieldsplit`` PC. Destroy with :meth:`destroy`."""
+    """The index sets ``u`` and ``p`` of a :class:`bcfem.solver.problem.Problem`'s blocked system,
+    and the rigid-body near-nullspace of ``u``, for PETSc's ``fieldsplit`` PC. Destroy with
+    :meth:`destroy` (collective)."""
 
-    def __init__(self, problem: Problem):
+    def __init__(self, problem: ConvergedAlgebra):
         comm = problem.snes.comm
         self.names = split_names(problem)
         if not self.names["u"] or not self.names["p"]:
@@ -133,7 +134,7 @@ class FieldSplit:
         self.index_sets = {}
 
 
-def reduced_inner_ksp(problem: Problem, split: FieldSplit) -> PETSc.KSP:
+def reduced_inner_ksp(problem: ConvergedAlgebra, split: FieldSplit) -> PETSc.KSP:
     """One application of the user's field split (their ``-<prefix>pc_*`` options) to a full-size
     matrix: the preconditioner of the Krylov method that solves the reduced system."""
     ksp = PETSc.KSP().create(problem.snes.comm)
