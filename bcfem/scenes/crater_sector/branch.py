@@ -17,10 +17,20 @@ same way and takes the same branch.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from petsc4py import PETSc
 
 import numpy as np
+import ufl
 from dolfinx import fem
+
+from bcfem.geometry.crater_sector import WALL
+from bcfem.log import progress
+from bcfem.mpi import global_sum, real_value
+from bcfem.physics.cavity import Cavity
+from bcfem.physics.fluids import _spread  # a real state's own row: value / |body| dx
+from bcfem.scenes.crater_sector.model import wall_content
 
 
 def critical_mode(problem, model, waves, iterations: int = 60, rtol: float = 1e-9):
@@ -85,3 +95,108 @@ def critical_mode(problem, model, waves, iterations: int = 60, rtol: float = 1e-
     for f in functions:
         f.x.array[:] *= scale
     return functions, float(mu), {k: c * scale for k, c in content.items()}
+
+
+@dataclass(frozen=True)
+class DrawnLiquid:
+    r"""A liquid of which the fraction r is drawn off, r an unknown (the path's load once the
+    wave's amplitude drives it): :math:`-(p - 1)(V(u) - (1 - r) V_0)`, stationary in p: V = (1 - r) V0."""
+
+    cavity: Cavity
+    full_volume: float
+    pressure_name: str = "fluid_pressure"
+    fraction_name: str = "drawn_fraction"
+    name = "drawn_liquid"
+
+    @property
+    def multipliers(self) -> tuple[str, ...]:
+        return (self.pressure_name,)
+
+    def energy(self, ctx) -> ufl.Form:
+        p, r = ctx.real_state(self.pressure_name), ctx.real_state(self.fraction_name)
+        zero = ctx.constant("liquid_pressure_diagonal", 0.0)  # the diagonals in the pattern
+        return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(
+            ctx, (p - 1.0) * (1.0 - r) * self.full_volume + zero * ((p - 1.0) ** 2 + r**2))
+
+
+@dataclass(frozen=True)
+class WaveAmplitude:
+    r"""The wall's cos n theta content held at the run-time constant ``wave_amplitude`` xi by the
+    force mu: :math:`\mu\,(c_n(u) - \xi)`, c_n as :meth:`Sector.wall_fourier`'s."""
+
+    waves: int
+    norm: float  # the integral of cos^2 n theta over the wall, times the crater radius [mm^3]
+    name = "wave_amplitude"
+    multipliers = ("wave_force",)
+
+    def energy(self, ctx) -> ufl.Form:
+        force, amplitude = ctx.real_state("wave_force"), ctx.constant("wave_amplitude")
+        zero = ctx.constant("wave_force_diagonal", 0.0)
+        return ctx.kin.surface_integral(force * wall_content(ctx, ctx.u, self.waves) / self.norm, WALL) + _spread(
+            ctx, -force * amplitude + zero * force**2)
+
+
+def wave_branch(model, problem, terms, fraction: float, amplitudes, count, cutbacks: int = 4) -> dict:
+    r"""The bifurcated branch from the state of ``problem`` (volume-controlled, the fraction
+    ``fraction`` drawn off, just below a bifurcation), followed by its wave's amplitude: the
+    critical mode's largest cos n theta content c_n is driven through c_n(start) + ``amplitudes``
+    (increasing from 0) and the drawn fraction r is the unknown whose row is mu = 0 (no force
+    holds the amplitude: an equilibrium). Through the pitchfork this path is regular, so it
+    passes the branch's folds in r and is the same branch on every partition. Each step starts
+    from a secant predictor (the first from the critical mode), halved up to ``cutbacks`` times
+    if Newton fails. ``count()`` is the unstable modes of the volume-controlled problem at the
+    current states (r set first). Returns {"mode": {"mu", "fourier"}, "waves": n, "rows":
+    [{"amplitude", "r", "s", "A_over_A0", "F_tilde" (= s A2/A0), "unstable", "fourier"}], "failure"}
+    (collective)."""
+    from bcfem.solver.problem import Problem
+
+    ctx = model.ctx
+    m = model.sector.wedge_waves
+    harmonics = [k * m for k in range(5)]
+    mode, mu, content = critical_mode(problem, model, harmonics[1:])
+    n = max(content, key=lambda k: abs(content[k]))
+    ctx.real_state("drawn_fraction").x.array[:] = fraction
+    ctx.real_state("wave_force").x.array[:] = 0.0
+    liquid = DrawnLiquid(Cavity(WALL), model.crater_volume)
+    cos2 = global_sum(fem.form(ctx.kin.surface_integral(ufl.cos(n * ufl.atan2(ctx.kin.x[1], ctx.kin.x[0])) ** 2,
+                                                        WALL)))
+    wave = WaveAmplitude(n, cos2 * model.sector.crater_radius)
+    fixed = ctx.constant("wave_amplitude")
+    start = model.wall_fourier(model.u, [n])[n]
+    r_state, pressure = ctx.states["drawn_fraction"], ctx.states[liquid.pressure_name]
+    force = ctx.states["wave_force"]
+    row = ufl.TestFunction(r_state.function_space)
+    zero = ctx.constant("drawn_fraction_diagonal", 0.0)  # r's diagonal in the pattern (see DrawnLiquid)
+    result = {"mode": {"mu": mu, "fourier": content}, "waves": n, "rows": [], "failure": None}
+    with Problem(ctx, [*terms, liquid, wave], model.bcs, f"bcfem_crater_sector_wave_{ctx.mesh.comm.size}_",
+                 {"snes_type": "vinewtonrsls"}, rows={"drawn_fraction": _spread(ctx, (force + zero * r_state) * row)},
+                 energy_scale=model.energy_scale, line_search_fallbacks=("bt",)) as path:
+        model.contact_bounds(path)
+        index = {name: i for i, name in enumerate(path.names)}
+        tangent = [np.zeros_like(s.x.array) for s in path.states]
+        tangent[index["displacement"]] = mode[problem.names.index("displacement")].x.array.copy()
+        done, saved, pending = 0.0, path.save(), list(amplitudes)
+        while pending:
+            step = pending[0] - done
+            for _ in range(cutbacks + 1):
+                for state, base, direction in zip(path.states, saved, tangent):
+                    state.x.array[:] = base + step * direction
+                fixed.value = start + done + step
+                if path.solve():
+                    break
+                step *= 0.5
+            else:
+                result["failure"] = f"Newton failed at the amplitude {done + step:g} ({path.failure})"
+                path.restore(saved)
+                break
+            now = path.save()
+            tangent = [(a - b) / step for a, b in zip(now, saved)]  # the secant, per unit amplitude
+            done, saved = done + step, now
+            if np.isclose(done, pending[0], rtol=0, atol=1e-12):
+                pending.pop(0)
+            r, suction, opening = real_value(r_state), 1 - real_value(pressure), model.opening()
+            result["rows"].append({"amplitude": done, "r": r, "s": suction, "A_over_A0": opening,
+                                   "F_tilde": suction * opening, "unstable": count(r),
+                                   "fourier": model.wall_fourier(model.u, [0, *harmonics[1:]])})
+            progress(f"crater sector: wave {n} amplitude {done:.4g}: r = {r:.6g}, s = {result['rows'][-1]['s']:.6g}")
+    return result

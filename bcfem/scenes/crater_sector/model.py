@@ -63,7 +63,11 @@ class MirrorPlane:
     def energy(self, ctx: Context) -> ufl.Form:
         traction = self.patch.state(ctx, "mirror_traction", ("Lagrange", 2))
         normal = ufl.as_vector([-math.sin(self.angle), math.cos(self.angle), 0.0])
-        return ctx.kin.surface_integral(traction * ufl.dot(ctx.u, normal), self.patch.tag)
+        # a zero lambda-lambda block that is assembled, so that the multiplier's rows have their
+        # diagonal in the matrix's pattern: PETSc's zeroRowsColumns (the unknowns held on the
+        # plate, in the solver's reduced step and the inertia count) refuses a matrix without
+        return ctx.kin.surface_integral(traction * ufl.dot(ctx.u, normal)
+                                        + ctx.constant("mirror_pattern", 0.0) * traction**2, self.patch.tag)
 
 
 class Sector:
@@ -101,6 +105,7 @@ class Sector:
         self.wall_nodes = fem.locate_dofs_topological(V, 2, facets.find(WALL))
         self.sector = sector
         self._fourier: dict[tuple, tuple] = {}
+        self._forms: dict[str, fem.Form] = {}
 
     @property
     def terms(self) -> list:
@@ -123,20 +128,31 @@ class Sector:
         """z = Z + u_z >= 0 on the wall: its frictionless contact with the plate."""
         plate_bounds(problem, 3 * self.wall_nodes + 2, self.nodes[self.wall_nodes, 2])
 
+    def opening(self) -> float:
+        """A2/A0: the area the rim encloses, projected on the plate, over the wedge's share of
+        pi a^2 (the wall's -int (cof F N)_z dA; collective)."""
+        if "opening" not in self._forms:
+            kin = self.ctx.kin
+            self._forms["opening"] = fem.form(-kin.surface_integral(kin.vertical_area(), WALL))
+        return global_sum(self._forms["opening"]) / (math.pi * self.sector.crater_radius**2 / self.sector.share)
+
     def wall_fourier(self, u: fem.Function, waves) -> dict[int, float]:
         r"""The wall's radial displacement u.X/|X| (the sphere's normal) in the modes the wedge
         admits: :math:`c_n = \int u_\rho \cos n\theta\, dA / \int \cos^2 n\theta\, dA` over the
         reference wall, for each n in ``waves`` (multiples of m), over the crater radius
         (collective)."""
-        X = ufl.SpatialCoordinate(self.mesh)
-        theta = ufl.atan2(X[1], X[0])
-        radial = ufl.dot(u, X) / ufl.sqrt(ufl.dot(X, X))
-        ds = ufl.Measure("ds", self.mesh, subdomain_data=self.facets, metadata={"quadrature_degree": 8})
-        out = {}
+        kin, out = self.ctx.kin, {}
         for n in waves:
             if (id(u), n) not in self._fourier:
-                self._fourier[id(u), n] = (fem.form(radial * ufl.cos(n * theta) * ds(WALL)),
-                                    global_sum(fem.form(ufl.cos(n * theta) ** 2 * ds(WALL))))
+                theta = ufl.atan2(kin.x[1], kin.x[0])
+                self._fourier[id(u), n] = (fem.form(kin.surface_integral(wall_content(self.ctx, u, n), WALL)),
+                                           global_sum(fem.form(kin.surface_integral(ufl.cos(n * theta) ** 2, WALL))))
             projection, norm = self._fourier[id(u), n]
             out[n] = global_sum(projection) / norm / self.sector.crater_radius
         return out
+
+
+def wall_content(ctx, u, waves: int):
+    """The integrand of the wall's cos n theta content: u.X/|X| cos n theta."""
+    X = ufl.SpatialCoordinate(ctx.mesh)
+    return ufl.dot(u, X) / ufl.sqrt(ufl.dot(X, X)) * ufl.cos(waves * ufl.atan2(X[1], X[0]))
