@@ -2,15 +2,17 @@ r"""The smallest mirror cell of a lattice of spherical-cap craters in the bottom
 specimen of height H, in 3-D (z vertical, the plate z = 0).
 
 Square lattice of spacing d: the quarter [0, d/2]² of the square prism around one crater
-(a quarter crater at the origin). Hexagonal lattice (craters at i d + j d/2, j √3 d/2): the
+(a quarter crater at the origin), or its eighth 0 <= y <= x <= d/2, which the diagonal mirror
+y = x halves. Hexagonal lattice (craters at i d + j d/2, j √3 d/2): the
 rectangle [0, d/2] × [0, √3 d/2], with quarter craters at two opposite corners. Every side
 face of either cell lies on a mirror plane of the lattice, so a lattice-symmetric response
 keeps it plane. The area filling factor is F = π a² / (cell area per crater): d² (square),
 √3 d²/2 (hexagonal); close packing (2a = d) is F = π/4 and π/(2√3).
 
-Facets: BOTTOM, TOP, MIRROR_X (x = 0), MIRROR_Y (y = 0), SIDE_X (x = Lx), SIDE_Y (y = Ly) and
-WALL + k for the k-th crater's wall. Built with OpenCASCADE on rank 0; quadratic tetrahedra,
-refined towards the walls. Units are those of the inputs (the crater scene's mm).
+Facets: BOTTOM, TOP, MIRROR_X (x = 0), MIRROR_Y (y = 0), SIDE_X (x = Lx), SIDE_Y (y = Ly),
+DIAGONAL (y = x, the eighth cell's) and WALL + k for the k-th crater's wall. Built with
+OpenCASCADE on rank 0; quadratic tetrahedra, refined towards the walls. Units are those of
+the inputs (the crater scene's mm).
 """
 
 from __future__ import annotations
@@ -20,10 +22,12 @@ from dataclasses import dataclass
 
 from bcfem.params import require
 
-BOTTOM, TOP, MIRROR_X, MIRROR_Y, SIDE_X, SIDE_Y = 11, 13, 16, 17, 18, 19
+BOTTOM, TOP, DIAGONAL, MIRROR_X, MIRROR_Y, SIDE_X, SIDE_Y = 11, 13, 14, 16, 17, 18, 19
 #: the first crater's wall; the k-th is WALL + k
 WALL = 20
 LATTICES = ("square", "hexagonal")
+#: the mirror cells: a quarter of the lattice's rectangle, or (square lattice) an eighth
+CELLS = ("quarter", "eighth")
 #: the least gap between neighbouring craters' rims, over a: a thinner ligament meshes badly
 MIN_LIGAMENT = 0.05
 
@@ -36,8 +40,9 @@ def close_packing(lattice: str) -> float:
 @dataclass(frozen=True)
 class CraterCell:
     """A lattice cell: the lattice, filling factor F, crater base radius a and aspect α = b/a,
-    specimen height H, and element sizes on the walls, at their rims (where the wall meets the
-    plate at an angle: the strains concentrate there) and far from them, over a."""
+    specimen height H, element sizes on the walls, at their rims (where the wall meets the
+    plate at an angle: the strains concentrate there) and far from them, over a, and which
+    mirror cell (``cell``: the eighth is the square lattice's)."""
 
     lattice: str = "square"
     filling: float = 0.1
@@ -47,9 +52,13 @@ class CraterCell:
     size_wall: float = 0.3
     size_rim: float = 0.1
     size_far: float = 0.8
+    cell: str = "quarter"
 
     def __post_init__(self):
         require(self.lattice in LATTICES, f"lattice must be one of {list(LATTICES)} (got {self.lattice!r})")
+        require(self.cell in CELLS, f"cell must be one of {list(CELLS)} (got {self.cell!r})")
+        require(self.cell == "quarter" or self.lattice == "square",
+                f"the eighth cell is the square lattice's (got lattice {self.lattice!r})")
         densest = close_packing(self.lattice)
         require(0 < self.filling < densest * (1 - MIN_LIGAMENT) ** 2,
                 f"filling must be below close packing, pi a^2 / cell area < {densest:.4g} for a {self.lattice} "
@@ -77,14 +86,19 @@ class CraterCell:
         return ((0.0, 0.0),) if self.lattice == "square" else ((0.0, 0.0), self.extent)
 
     @property
+    def share(self) -> float:
+        """The share of each crater the cell holds: a quarter, or an eighth."""
+        return 0.125 if self.cell == "eighth" else 0.25
+
+    @property
     def craters(self) -> float:
-        """How many craters the cell holds (a quarter each)."""
-        return len(self.centres) / 4
+        """How many craters the cell holds."""
+        return len(self.centres) * self.share
 
     @property
     def area(self) -> float:
         Lx, Ly = self.extent
-        return Lx * Ly
+        return Lx * Ly * (0.5 if self.cell == "eighth" else 1.0)
 
     @property
     def crater_volume(self) -> float:
@@ -96,8 +110,8 @@ class CraterCell:
         """About how many tetrahedra the mesh has (the far size fills the cell, the walls refine)."""
         a = self.crater_radius
         far = self.area * self.height / (self.size_far * a) ** 3 * 6
-        walls = len(self.centres) * math.pi * a**2 / (self.size_wall * a) ** 2 * 8
-        rims = len(self.centres) * (self.size_wall / self.size_rim) ** 2 * 70
+        walls = self.craters * 4 * math.pi * a**2 / (self.size_wall * a) ** 2 * 8
+        rims = self.craters * 4 * (self.size_wall / self.size_rim) ** 2 * 70
         return far + walls + rims
 
     def build_model(self) -> None:
@@ -110,9 +124,14 @@ class CraterCell:
         a, b = self.crater_radius, self.alpha * self.crater_radius
         rho = (a**2 + b**2) / (2 * b)  # the cap's sphere, centred at z = b - rho
         Lx, Ly = self.extent
-        box = occ.addBox(0, 0, 0, Lx, Ly, self.height)
+        if self.cell == "eighth":  # the triangle 0 <= y <= x <= Lx, extruded
+            corners = [occ.addPoint(0, 0, 0), occ.addPoint(Lx, 0, 0), occ.addPoint(Lx, Lx, 0)]
+            loop = occ.addCurveLoop([occ.addLine(corners[i], corners[(i + 1) % 3]) for i in range(3)])
+            prism = [e for e in occ.extrude([(2, occ.addPlaneSurface([loop]))], 0, 0, self.height) if e[0] == 3]
+        else:
+            prism = [(3, occ.addBox(0, 0, 0, Lx, Ly, self.height))]
         balls = [(3, occ.addSphere(x, y, b - rho, rho)) for x, y in self.centres]
-        body, _ = occ.cut([(3, box)], balls)
+        body, _ = occ.cut(prism, balls)
         occ.synchronize()
         gmsh.model.addPhysicalGroup(3, [t for _, t in body], 1, name="specimen")
         tol = 1e-9 * max(Lx, Ly, self.height)
@@ -120,7 +139,8 @@ class CraterCell:
         for _, tag in gmsh.model.getEntities(2):
             x, y, z = occ.getCenterOfMass(2, tag)
             planes = ((x, 0, MIRROR_X), (y, 0, MIRROR_Y), (x, Lx, SIDE_X), (y, Ly, SIDE_Y),
-                      (z, 0, BOTTOM), (z, self.height, TOP))
+                      (z, 0, BOTTOM), (z, self.height, TOP),
+                      *(((x - y, 0, DIAGONAL),) if self.cell == "eighth" else ()))
             key = next((k for value, at, k in planes if abs(value - at) < tol), None)
             if key is None:  # a wall: the crater whose centre is nearest
                 k = min(range(len(self.centres)), key=lambda i: math.dist((x, y), self.centres[i]))

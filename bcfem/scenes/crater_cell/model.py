@@ -2,7 +2,9 @@ r"""The lattice cell's model: mesh, states, terms, boundary conditions and obser
 
 The displacement is u = ũ + (e_x x, e_y y, 0) (the lift of :class:`bcfem.kinematics.solid_3d.Solid3D`),
 with ũ held normal to every side face: each side face stays on its plane, the faces x = Lx
-and y = Ly move with the lateral macroscopic strains e_x, e_y (real-space states). Their
+and y = Ly move with the lateral macroscopic strains e_x, e_y (real-space states; in the
+eighth cell one strain e_x = e_y, the diagonal face y = x held by
+:class:`bcfem.scenes.crater_sector.model.MirrorPlane`, a multiplier field). Their
 residuals are the derivatives of the energy, the mean lateral tractions on the side faces: zero,
 so the array spreads freely under the platen (uniaxial stress on average). The platen is
 ũ_z = -eps H on the top face, the plate ũ_z = 0 on the bottom face (both frictionless); the
@@ -23,8 +25,9 @@ import ufl
 from dolfinx import fem
 
 from bcfem.contact.plate_bounds import plate_bounds
-from bcfem.geometry.crater_cell import BOTTOM, MIRROR_X, MIRROR_Y, SIDE_X, SIDE_Y, TOP, WALL, create_mesh
+from bcfem.geometry.crater_cell import BOTTOM, DIAGONAL, MIRROR_X, MIRROR_Y, SIDE_X, SIDE_Y, TOP, WALL, create_mesh
 from bcfem.kinematics.solid_3d import Solid3D
+from bcfem.kinematics.submesh import BoundaryPatch
 from bcfem.mpi import global_sum, real_value
 from bcfem.physics.bcs import component
 from bcfem.physics.cavity import Cavity
@@ -35,6 +38,7 @@ from bcfem.physics.materials import NearlyIncompressibleNeoHookean
 from bcfem.physics.viscosity import Viscosity
 from bcfem.scenes.crater.model import CONTACT_GAP
 from bcfem.scenes.crater_cell.params import Params
+from bcfem.scenes.crater_sector.model import MirrorPlane
 
 #: the lateral strains' states, along x and y
 LATERAL = ("lateral_strain_x", "lateral_strain_y")
@@ -53,7 +57,10 @@ class CellModel:
         V = fem.functionspace(msh, ("Lagrange", 2, (3,)))
         self.u = fem.Function(V, name="displacement")
         self.ctx = ctx = Context(self.u)
-        strains = [ctx.real_state(name) for name in LATERAL]
+        eighth = cell.cell == "eighth"
+        #: the lateral strains' states: (e_x, e_y), or e twice in the eighth cell
+        self.strains = [ctx.real_state(LATERAL[0 if eighth else k]) for k in range(2)]
+        strains = self.strains
         x = ufl.SpatialCoordinate(msh)
         ctx.kin = kin = Solid3D(self.u, quadrature_degree=4, facet_tags=facets,
                                 lift=ufl.as_vector([strains[0] * x[0], strains[1] * x[1], 0]))
@@ -62,6 +69,7 @@ class CellModel:
                  for axis, tags in ((0, (MIRROR_X, SIDE_X)), (1, (MIRROR_Y, SIDE_Y)))}
         self.bcs = [component(V, 0, sides[0]), component(V, 1, sides[1]), component(V, 2, facets.find(BOTTOM)),
                     component(V, 2, facets.find(TOP), self.platen)]
+        self.mirror = MirrorPlane(BoundaryPatch(msh, facets, DIAGONAL), math.pi / 4) if eighth else None
         beta, a = params.beta, cell.crater_radius
         self.walls = tuple(WALL + k for k in range(len(cell.centres)))
         self.solid = SolidStrain(NearlyIncompressibleNeoHookean(mu=beta, kappa=params.kappa_ratio * beta))
@@ -88,8 +96,9 @@ class CellModel:
         self.V0, self.A0, self.craters = cell.crater_volume, math.pi * a**2, cell.craters
 
     def terms(self, *fluids) -> list:
-        """The solid, the walls' surface energy (if any), the fluids and the relaxation's viscosity."""
-        return [self.solid, *([self.surface] if self.surface else []), *fluids, self.viscosity]
+        """The solid, the diagonal mirror and the walls' surface energy (if any), the fluids and the
+        relaxation's viscosity."""
+        return [self.solid, *(t for t in (self.mirror, self.surface) if t), *fluids, self.viscosity]
 
     def set_platen(self, strain: float) -> None:
         """The platen at eps = -dL/L."""
@@ -102,14 +111,14 @@ class CellModel:
         w = fem.Function(self.u.function_space)
         H = self.params.specimen_height
         w.interpolate(lambda x: np.vstack([0 * x[0], 0 * x[0], x[2] / H]))
-        self._force = fem.form(ufl.derivative(problem.lagrangian, self.u, w))
+        self._force = fem.form(ufl.derivative(problem.lagrangian, self.u, w), entity_maps=self.ctx.entity_maps or None)
 
     def platen_force(self) -> float:
         """The platen's force on the cell, in p_a mm² (collective)."""
         return global_sum(self._force)
 
     def volumes(self) -> list[float]:
-        """Each quarter crater's current volume (collective)."""
+        """Each crater's current volume in the cell (a quarter's or an eighth's; collective)."""
         return [global_sum(form) for form in self._volumes]
 
     def seal(self) -> list:
@@ -148,11 +157,10 @@ class CellModel:
     def observe(self, stage: str, eps: float) -> dict:
         """The row of the current state (collective)."""
         V, A, p = self.volumes(), [global_sum(f) for f in self._openings], self.pressures()
-        quarters = len(self.walls)
         suction = sum((1 - pk) * Ak for pk, Ak in zip(p, A))
-        return {"stage": stage, "eps": eps, "p_over_pa": p[0], "V_over_V0": 4 * sum(V) / (quarters * self.V0),
-                "A_over_A0": 4 * sum(A) / (quarters * self.A0), "F_tilde": suction / (self.craters * self.A0),
+        return {"stage": stage, "eps": eps, "p_over_pa": p[0], "V_over_V0": sum(V) / (self.craters * self.V0),
+                "A_over_A0": sum(A) / (self.craters * self.A0), "F_tilde": suction / (self.craters * self.A0),
                 "F_tilde_area": suction / self.cell.area,
-                **{name: real_value(self.ctx.states[name]) for name in LATERAL},
+                **{name: real_value(state) for name, state in zip(LATERAL, self.strains)},
                 "platen_force": self.platen_force() / (self.craters * self.A0),
                 "pressure_spread": max(p) - min(p), "wall_on_plate": self.wall_on_plate()}

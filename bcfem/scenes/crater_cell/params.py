@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from bcfem.geometry.crater_cell import LATTICES, MIN_LIGAMENT, CraterCell, close_packing
+from bcfem.geometry.crater_cell import CELLS, LATTICES, MIN_LIGAMENT, CraterCell, close_packing
 from bcfem.params import Bound, check_bounds, check_meshable, describe, flags_named, require
 
 SUMMARY = "a lattice of craters pressed on a rigid plate: the suction cycle of one mirror cell in 3-D"
@@ -20,7 +20,9 @@ sealed at the preload and unloaded to zero platen force, then on to eps = 0
 (stage 'unload'); the air obeys p V = p_a V1, a liquid keeps V = V1. The
 computed body is the lattice's smallest rectangular mirror cell (a quarter of
 the square prism around one crater; for the hexagonal lattice the rectangle
-d/2 x sqrt(3) d/2 with quarter craters at two corners). Its side faces stay
+d/2 x sqrt(3) d/2 with quarter craters at two corners), or with --cell eighth
+the square prism's eighth 0 <= y <= x <= d/2 (the diagonal face a mirror held
+by a multiplier field: half the mesh, and e_x = e_y). Its side faces stay
 planes and move with the lateral macroscopic strains e_x, e_y (global unknowns
 whose conjugates, the mean lateral tractions, vanish): the array spreads as a
 whole under the platen. The plate and the platen are frictionless; the bottom
@@ -55,6 +57,9 @@ class Params:
     """Parameters of ``crater-cell``; each field's help and unit are in its metadata (``--help``)."""
 
     lattice: str = field(default="square", metadata=describe("the craters' lattice", "", LATTICES))
+    cell: str = field(default="quarter", metadata=describe(
+        "the mirror cell: a quarter of the lattice's rectangle, or the square lattice's eighth "
+        "(which also excludes the modes that break the diagonal mirror)", "", CELLS))
     filling: float = field(default=0.1, metadata=describe(
         "area filling factor F = pi a^2 / (cell area per crater), below close packing (pi/4 = 0.785 "
         "square, pi/(2 sqrt 3) = 0.907 hexagonal) by a ligament of 0.05 a", bound=Bound(0, 0.91, open_low=True)))
@@ -89,7 +94,7 @@ class Params:
 
     def __post_init__(self):
         check_bounds(self)
-        for name, choices in (("lattice", LATTICES), ("fluid", FLUID_NAMES)):
+        for name, choices in (("lattice", LATTICES), ("fluid", FLUID_NAMES), ("cell", CELLS)):
             require(getattr(self, name) in choices,
                     f"--{name} must be one of {list(choices)} (got {getattr(self, name)!r})")
         require(self.size_rim <= self.size_wall,
@@ -99,6 +104,8 @@ class Params:
         require(self.specimen_height <= 100 * self.crater_radius,
                 f"--specimen-height must be at most 100 crater radii "
                 f"(got {self.specimen_height / self.crater_radius:g} a)")
+        require(self.cell == "quarter" or self.lattice == "square",
+                f"--cell eighth is the square lattice's (got --lattice {self.lattice})")
         densest = close_packing(self.lattice)
         require(self.filling < densest * (1 - MIN_LIGAMENT) ** 2,
                 f"--filling must be below {densest * (1 - MIN_LIGAMENT) ** 2:.4g} for a {self.lattice} lattice "
@@ -114,4 +121,4 @@ class Params:
     def geometry(self) -> CraterCell:
         return CraterCell(lattice=self.lattice, filling=self.filling, crater_radius=self.crater_radius,
                           alpha=self.alpha, height=self.specimen_height, size_wall=self.size_wall,
-                          size_rim=self.size_rim, size_far=self.size_far)
+                          size_rim=self.size_rim, size_far=self.size_far, cell=self.cell)
