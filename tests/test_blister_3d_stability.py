@@ -1,8 +1,9 @@
 """blister-3d's stability under volume control (bcfem/scenes/blister_3d/stability.py) on a mesh
 symmetric about both axes (bcfem/scenes/blister_3d/mirrored.py): the circle stays stable through
-its pressure maximum, as the axisymmetric blister does (tests/test_stability.py); a 2:1
-rectangle loses it past its maximum to a mode that breaks one mirror exactly; 2 ranks equal
-serial; the bifurcation's volume converges with the mesh."""
+its pressure maximum, as the axisymmetric blister does (tests/test_stability.py); a 4:1
+rectangle loses it just past its maximum to a mode that breaks one mirror exactly, and the
+branch off it bulges towards one end; 2 ranks equal serial; the bifurcation's volume
+converges with the mesh."""
 
 import math
 
