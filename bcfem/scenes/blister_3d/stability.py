@@ -59,7 +59,7 @@ class VolumeStability:
     """
 
     def __init__(self, problem, ctx, v0: float, volume_tol: float = VOLUME_TOL):
-        if problem.multipliers != ("pressure",):
+        if "pressure" not in problem.multipliers:
             raise ValueError(f"the stability problem needs the volume constraint's row (multipliers: "
                              f"{problem.multipliers})")
         self.problem = problem
