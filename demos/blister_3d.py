@@ -73,7 +73,7 @@ for name, fields in OUTLINES.items():
     problem.close()
     curves[name] = branch.rows
     tops[name] = next(lp.values for lp in branch.limit_points if lp.kind == "max")
-    surfaces[name] = gather_surface(scene.fields[0], scene.fields[1], comm)
+    surfaces[name] = gather_surface(scene.fields[0], (scene.fields[1], scene.fields[3]), comm)
     report(f"{name:14s}: P_max = {tops[name]['P']:.6f} at V/V0 = {tops[name]['V_over_V0']:.4f}")
 axisymmetric = branch_of(blister_rigid.build(blister_rigid.Params(material="neo-hookean", v_max=V_END), comm))
 
@@ -92,7 +92,7 @@ for mode in ("taut", "relaxed"):
     problem.close()
     wrinkles[mode] = branch.rows[-1]
     if mode == "relaxed":
-        surfaces["rectangle 4:1, relaxed"] = gather_surface(scene.fields[0], scene.fields[1], comm)
+        surfaces["rectangle 4:1, relaxed"] = gather_surface(scene.fields[0], (scene.fields[1], scene.fields[3]), comm)
     report(f"rectangle 4:1 {mode:8s}: P = {wrinkles[mode]['P']:.6f} at V/V0 = 0.35, "
            f"wrinkled fraction {wrinkles[mode]['wrinkled_fraction']:.4f}")
 
@@ -117,7 +117,7 @@ if comm.rank == 0:
     ax.legend()
     io.save_figure(fig, args.out / "pv.png", MPI.COMM_SELF)
     for name, parts in surfaces.items():
-        colour = "taut minor tension (< 0: wrinkled)" if "relaxed" in name else "major stretch"
+        colour = "taut minor tension (< 0: wrinkled)" if "relaxed" in name else "major tension N1 / (mu t0)"
         title = f"{name}: V/V0 = {0.35 if 'relaxed' in name else V_END}"
         stem = name.replace(" ", "_").replace(":", "x").replace(",", "")
         io.save_figure(membrane_figure(parts, title, colour), args.out / f"membrane_{stem}.png", MPI.COMM_SELF)

@@ -18,7 +18,7 @@ from bcfem.scenes import blister_3d
 
 def solved(comm=MPI.COMM_WORLD, **params):
     """(rows, summary) of blister-3d on the mirrored mesh."""
-    return solve_rows(blister_3d.build(blister_3d.Params(**params), comm, mirrored=True), comm)
+    return solve_rows(blister_3d.build(blister_3d.Params(**params, mesh="mirrored"), comm), comm)
 
 
 def test_mirrored_mesh_is_symmetric_and_covers_the_outline():
@@ -52,8 +52,8 @@ def _rectangle(size, comm=MPI.COMM_WORLD, v_max=0.5, follow=True):
     """(rows, summary, broken rows) of the 4:1 rectangle (relaxed), traced past its first
     bifurcation, and the broken branch off it."""
     scene = blister_3d.build(blister_3d.Params(outline="rectangle", aspect=4, wrinkles="relaxed", size=size,
-                                               v_max=v_max), comm, mirrored=True)
-    scene.follow = follow
+                                               v_max=v_max, mesh="mirrored",
+                                               follow="broken" if follow else "none"), comm)
     rows, summary = solve_rows(scene, comm)
     return rows, summary, getattr(scene, "_broken", [])
 

@@ -10,12 +10,11 @@ from __future__ import annotations
 from bcfem.scenes.blister_3d.params import COLUMNS, DESCRIPTION, SUMMARY, Params
 
 
-def build(params: Params, comm, extra_terms=(), mirrored: bool = False):
-    """The blister of ``params``, for :mod:`bcfem.run.runner` (``mirrored``: on a mesh
-    symmetric about both axes)."""
+def build(params: Params, comm, extra_terms=()):
+    """The blister of ``params``, for :mod:`bcfem.run.runner`."""
     from bcfem.scenes.blister_3d.model import build as compose
 
-    return compose(params, comm, extra_terms, mirrored)
+    return compose(params, comm, extra_terms)
 
 
 __all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "Params", "build"]

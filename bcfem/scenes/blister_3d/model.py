@@ -29,10 +29,10 @@ from bcfem.scenes.blister_3d.report import MembraneScene
 from bcfem.scenes.blister_3d.start import FopplStart
 
 
-def build(params: Params, comm, extra_terms=(), mirrored: bool = False) -> MembraneScene:
-    """The blister of ``params`` (see :mod:`bcfem.scenes.blister_3d.params`); ``mirrored``: on a
-    mesh symmetric about both axes (:mod:`bcfem.scenes.blister_3d.mirrored`)."""
-    data = (create_mirrored_mesh if mirrored else create_mesh)(params.geometry(), comm)
+def build(params: Params, comm, extra_terms=()) -> MembraneScene:
+    """The blister of ``params`` (see :mod:`bcfem.scenes.blister_3d.params`); ``--mesh mirrored``:
+    on a mesh symmetric about both axes (:mod:`bcfem.scenes.blister_3d.mirrored`)."""
+    data = (create_mirrored_mesh if params.mesh == "mirrored" else create_mesh)(params.geometry(), comm)
     msh = data.mesh
     V = fem.functionspace(msh, ("Lagrange", params.degree, (3,)))
     u = fem.Function(V, name="displacement")
@@ -70,14 +70,16 @@ def build(params: Params, comm, extra_terms=(), mirrored: bool = False) -> Membr
     heights = V.sub(2).collapse()[1]  # the z components in u.x.array
     I1_taut = ufl.variable(kin.taut_I1)
     dW = ufl.diff(params.material_model().strain_energy(I1_taut), I1_taut)
-    N2 = kin.principal_tensions(dW)[1] + params.alpha
+    N1, N2 = (N + params.alpha for N in kin.principal_tensions(dW))
     compression = cell_maximum(msh, -N2, degree)
     wrinkled = fem.form(kin.integral(ufl.conditional(ufl.lt(N2, 0), 1.0, 0.0) / kin.reference_area))
     measures = fem.Function(V, name="measures")
     direction = fem.Function(V, name="tension_direction")
+    tensions = fem.Function(V, name="tensions")
     drawn = [(f, fem.Expression(e, V.element.interpolation_points))
              for f, e in ((measures, ufl.as_vector([*kin.principal_stretches(), N2])),
-                          (direction, kin.tension_direction()))]
+                          (direction, kin.tension_direction()),
+                          (tensions, ufl.as_vector([N1, N2, ufl.sqrt(N1**2 - N1 * N2 + N2**2)])))]
 
     scale = params.alpha + params.gamma_ls - float(np.mean(values_of(params.delta_gamma)))
     cost = ((lambda points: params.alpha + params.gamma_ls - dgamma_at(params.delta_gamma, points)) if patterned
@@ -145,8 +147,9 @@ def build(params: Params, comm, extra_terms=(), mirrored: bool = False) -> Membr
     return MembraneScene(name="blister-3d", ctx=ctx, terms=terms, bcs=bcs, load="pressure", start=start,
                  observe=observe, end=end, grows="V_over_V0",
                  progress_keys=("V_over_V0", "P", "aspect", *(("G_max", "G_min") if release else ())),
-                 fields=[u, measures, direction], release=release, switches=switches,
+                 fields=[u, measures, direction, tensions], release=release, switches=switches,
                  after=grow if release and params.front_steps else None, fronts=fronts,
+                 follow=params.follow == "broken",
                  summarize=(lambda branch: onset(branch, scale)) if release else None,
                  continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},

@@ -51,10 +51,15 @@ is G / cost along the outline, DIR/front.png the front at each volume.
 With --wrinkles relaxed the membrane cannot carry compression (tension-field
 theory): where it would, it wrinkles along its major principal direction and
 contracts freely across it. The VTX file holds 'measures' (lambda_1, lambda_2,
-N2) and 'tension_direction' (the unit major principal direction, the wrinkles'
-crests where N2 < 0).
+N2), 'tensions' (the taut membrane's principal tensions N1, N2 and its
+equivalent tension sqrt(N1^2 - N1 N2 + N2^2), over mu_f t0, surface tension
+included) and 'tension_direction' (the unit major principal direction, the
+wrinkles' crests where N2 < 0).
+After every point the bordered tangent's inertia gives unstable_modes (under
+volume control); a rise is located (summary.json 'bifurcations', with the
+mirror its critical mode breaks; exact on --mesh mirrored).
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/membrane.png (the last
-state rendered, coloured by the major stretch), DIR/fields.bp (VTX: the
+state rendered, coloured by the major tension N1), DIR/fields.bp (VTX: the
 displacement on the reference outline; warp by it in ParaView)."""
 COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "N2_min",
            "wrinkled_fraction", "s"]
@@ -63,6 +68,8 @@ ADHESIVE_COLUMNS = [*COLUMNS[:-1], "G_max", "G_mean", "G_min", "excess_max", "ex
                     "front_R_max", "front_residual", "s"]
 EDGES = ("clamped", "adhesive")
 WRINKLES = ("taut", "relaxed")
+MESHES = ("free", "mirrored")
+FOLLOW = ("none", "broken")
 
 
 @dataclass(frozen=True)
@@ -101,6 +108,14 @@ class Params:
     wrinkles: str = field(default="taut", metadata=describe(
         "taut: the membrane carries compression; relaxed: it wrinkles instead (tension-field "
         "theory; needs --alpha 0)", "", WRINKLES))
+    mesh: str = field(default="free", metadata=describe(
+        "free: gmsh's mesh of the whole outline; mirrored: its quarter x, y >= 0 meshed and reflected, so "
+        "that the discrete blister keeps both mirrors and a symmetry-breaking bifurcation is counted and "
+        "located exactly (circle, ellipse, rectangle)", "", MESHES))
+    follow: str = field(default="none", metadata=describe(
+        "broken: after the branch, trace the branch off the first located bifurcation (one arc-length step "
+        "along its critical mode, to the side where its classifying moment is positive) to --v-max: "
+        "DIR/broken.csv, broken_branch in summary.json (clamped edge)", "", FOLLOW))
     v_max: float = field(default=2.0, metadata=describe(
         "end of the branch, V/V0", bound=Bound(0, 100, open_low=True)))
     v_start: float = field(default=0.01, metadata=describe(
@@ -114,7 +129,7 @@ class Params:
     def __post_init__(self):
         check_bounds(self)
         for name, choices in (("outline", KINDS), ("material", tuple(MATERIALS)), ("edge", EDGES),
-                              ("wrinkles", WRINKLES)):
+                              ("wrinkles", WRINKLES), ("mesh", MESHES), ("follow", FOLLOW)):
             require(getattr(self, name) in choices,
                     f"--{name} must be one of {sorted(choices)} (got {getattr(self, name)!r})")
         require(self.v_start < self.v_max, f"need --v-start < --v-max (got {self.v_start:g}, {self.v_max:g})")
@@ -123,6 +138,11 @@ class Params:
                 "which the relaxed energy of the membrane alone does not hold)")
         require((self.outline == "polygon") == bool(self.vertices),
                 "--vertices FILE is needed for --outline polygon, and only for it")
+        require(self.mesh == "free" or self.outline in ("circle", "ellipse", "rectangle"),
+                f"--mesh mirrored needs an outline symmetric about both axes: circle, ellipse or rectangle "
+                f"(got --outline {self.outline})")
+        require(self.follow == "none" or self.edge == "clamped",
+                "--follow broken follows a clamped blister's branch (got --edge adhesive)")
         require(self.aspect == 1.0 or self.outline in ("ellipse", "rectangle"),
                 f"--aspect applies to an ellipse or a rectangle (got --outline {self.outline})")
         dgamma = values_of(self.delta_gamma)

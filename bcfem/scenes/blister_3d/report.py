@@ -1,6 +1,6 @@
 """The picture of a three-dimensional blister: the deformed membrane, coloured by its major
-principal stretch, rendered off screen by pyvista (VTK's EGL window; no display needed) and
-framed in a matplotlib figure like every other PNG of a run."""
+principal tension (or another of :data:`MEASURES`), rendered off screen by pyvista (VTK's EGL
+window; no display needed) and framed in a matplotlib figure like every other PNG of a run."""
 
 from __future__ import annotations
 
@@ -13,8 +13,9 @@ import numpy as np
 from bcfem.run.scene import BranchScene
 
 
-def gather_surface(u, measures, comm):
-    """The membrane's cells, current points and (lambda_1, lambda_2, N2) of every rank, on
+def gather_surface(u, fields, comm):
+    """The membrane's cells, current points and the columns of ``fields`` (the 'measures'
+    lambda_1, lambda_2, N2 and the 'tensions' N1, N2, N_eq: :data:`MEASURES`) of every rank, on
     rank 0 (None elsewhere); collective."""
     from dolfinx import plot
 
@@ -22,16 +23,17 @@ def gather_surface(u, measures, comm):
     bs = u.function_space.dofmap.index_map_bs
     n = len(points)
     local = (topology, cell_types, points + u.x.array.reshape(-1, bs)[:n],
-             measures.x.array.reshape(-1, bs)[:n])
+             np.hstack([f.x.array.reshape(-1, bs)[:n] for f in fields]))
     parts = comm.gather(local, root=0)
     return parts if comm.rank == 0 else None
 
 
-#: what :func:`membrane_figure` can colour by: the columns of the 'measures' field
-MEASURES = {"major stretch": 0, "minor stretch": 1, "taut minor tension (< 0: wrinkled)": 2}
+#: what :func:`membrane_figure` can colour by: the columns of the 'measures' and 'tensions' fields
+MEASURES = {"major stretch": 0, "minor stretch": 1, "taut minor tension (< 0: wrinkled)": 2,
+            "major tension N1 / (mu t0)": 3, "equivalent tension / (mu t0)": 5}
 
 
-def membrane_figure(parts, title: str, colour: str = "major stretch"):
+def membrane_figure(parts, title: str, colour: str = "major tension N1 / (mu t0)"):
     """A matplotlib figure of the gathered surface (rank 0), coloured by one of :data:`MEASURES`."""
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
     import matplotlib.pyplot as plt
@@ -116,7 +118,7 @@ class MembraneScene(BranchScene):
             if self.after:
                 self.after(run)
         finally:  # the converged part is drawn too
-            self._surface = gather_surface(self.fields[0], self.fields[1], self.ctx.mesh.comm)
+            self._surface = gather_surface(self.fields[0], (self.fields[1], self.fields[3]), self.ctx.mesh.comm)
             self._outline = self.release.gather() if self.release else None
 
     def _trace_counted(self, run) -> None:
@@ -180,10 +182,11 @@ class MembraneScene(BranchScene):
 
     def figures(self, rows, summary) -> dict:
         figures = super().figures(rows, summary)
-        if getattr(self, "_surface", None):
-            last = rows[-1]
+        if getattr(self, "_surface", None):  # the last state solved: the broken branch's, if followed
+            broken = getattr(self, "_broken", None)
+            last, which = (broken[-1], " (broken branch)") if broken else (rows[-1], "")
             figures["membrane.png"] = membrane_figure(
-                self._surface, f"{self.name}: V/V0 = {last['V_over_V0']:.3g}, P = {last['P']:.4g}")
+                self._surface, f"{self.name}{which}: V/V0 = {last['V_over_V0']:.3g}, P = {last['P']:.4g}")
         if getattr(self, "_outline", None):
             last = rows[-1]
             figures["release.png"] = release_figure(
