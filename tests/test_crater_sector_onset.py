@@ -19,7 +19,7 @@ from bcfem.scenes.crater_sector import axisymmetric_suction_waves, drawn_stabili
 
 LINING, STIFFNESS, WAVES = 0.05, 1000.0, 8
 DRAWN = [0.01, 0.02, 0.03, 0.034, 0.036, 0.037, 0.038, 0.0385, 0.039, 0.04]
-AMPLITUDES = [0.0005, 0.001, 0.002, 0.004, 0.006, 0.008, 0.01, 0.012]
+AMPLITUDES = [0.002, 0.004, 0.006, 0.008, 0.01, 0.012]
 
 
 def wedge(comm):

@@ -147,7 +147,12 @@ def wave_branch(model, problem, terms, fraction: float, amplitudes, count, cutba
     if Newton fails. ``count()`` is the unstable modes of the volume-controlled problem at the
     current states (r set first). Returns {"mode": {"mu", "fourier"}, "waves": n, "rows":
     [{"amplitude", "r", "s", "A_over_A0", "F_tilde" (= s A2/A0), "unstable", "fourier"}], "failure"}
-    (collective)."""
+    (collective).
+
+    The mesh is not symmetric about theta = pi/2m, so the pitchfork is slightly imperfect: near
+    the onset the fundamental branch's own c_n changes by a few 1e-4 a (size 0.1). A first step
+    below that can meet the fundamental branch instead, and the secant from there leads astray:
+    take the amplitudes' steps well above it (e.g. 0.002)."""
     from bcfem.solver.problem import Problem
 
     ctx = model.ctx

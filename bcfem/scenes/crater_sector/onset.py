@@ -30,8 +30,9 @@ def first_onset(model: Sector, terms, set_load, loads, bisections: int, name: st
 
     Returns {"rows": [(load, unstable[, observed])], "onset": (load below, load above) or None,
     "failure": None or why the last step failed after its cut-backs (the path ends there; a
-    failed bisection step ends the bisection)}. The states are left at the last stable solution
-    below the onset or the failure (at ``beyond``'s last state if it was called) (collective)."""
+    bisection step that Newton fails is retried nearer the stable end), "dofs"}. The states are
+    left at the last stable solution below the onset or the failure (at ``beyond``'s last state if
+    it was called) (collective)."""
     from bcfem.stability.inertia import unstable_modes
 
     comm = model.mesh.comm
@@ -85,19 +86,19 @@ def first_onset(model: Sector, terms, set_load, loads, bisections: int, name: st
 
         above = climb(loads)
         if above is not None:
-            below = before
+            below, trial = before, above
             for _ in range(bisections):
-                mid = 0.5 * (below + above)
+                mid = 0.5 * (below + trial)
                 count = count_at(mid)
-                if count is None:
-                    break
-                if count > 0:
-                    above = mid
+                if count is None:  # Newton fails near the singular point: try nearer the stable end
+                    trial = mid
+                elif count > 0:
+                    above = trial = mid
                 else:
-                    below, before, saved = mid, mid, problem.save()
-            onset = (below, above)
+                    below, before, saved, trial = mid, mid, problem.save(), above
+            onset, failure = (below, above), None  # a bisection step that failed ended no path
         problem.restore(saved)
-        result = {"rows": rows, "onset": onset, "failure": failure}
+        result = {"rows": rows, "onset": onset, "failure": failure, "dofs": problem.global_size(problem.names)}
         if onset is not None and beyond is not None:
             result.update(beyond(problem, before))
         return result
