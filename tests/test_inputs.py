@@ -157,7 +157,8 @@ CHEAP = {"blister-rigid": ["--cells", "20", "--v-max", "1"],
          "droplet-soft": ["--size-contact", "0.05"],
          "blister-3d": ["--size", "0.25", "--v-max", "0.3"],
          "crater-cell": ["--size-wall", "0.5", "--size-rim", "0.2", "--size-far", "1.5", "--preload", "0.05",
-                         "--strain-step", "0.05"]}
+                         "--strain-step", "0.05"],
+         "crater-sector": ["--size-wall", "0.5", "--size-far", "1.5", "--steps", "1", "--drawn-step", "0.02"]}
 
 
 def run_to_a_status(argv: list[str], out) -> tuple[int, dict | None, str]:

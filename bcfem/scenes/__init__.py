@@ -27,6 +27,7 @@ class _Lazy(Mapping):
 REGISTRY = _Lazy({"blister-rigid": "bcfem.scenes.blister_rigid", "blister-3d": "bcfem.scenes.blister_3d",
                   "blister-soft": "bcfem.scenes.blister_soft",
                   "crater": "bcfem.scenes.crater", "crater-cell": "bcfem.scenes.crater_cell",
+                  "crater-sector": "bcfem.scenes.crater_sector",
                   "crater-double": "bcfem.scenes.crater_double", "droplet-soft": "bcfem.scenes.droplet_soft"})
 STUDIES = _Lazy({"blister-rigid": "bcfem.scenes.blister_studies", "crater": "bcfem.scenes.crater",
                  "crater-double": "bcfem.scenes.crater_double"})

@@ -1,16 +1,41 @@
-"""The crater's suction cycle on a 3-D wedge pi/m of its specimen (:mod:`bcfem.geometry.crater_sector`;
-m = 2: the quarter), the axisymmetric crater's terms on :class:`bcfem.kinematics.solid_3d.Solid3D`,
-the first brick of the 3-D crater cells; its first non-axisymmetric bifurcation and the branch
-past it.
+"""Scene ``crater-sector``: the crater on a 3-D wedge pi/m of its specimen
+(:mod:`bcfem.geometry.crater_sector`; m = 2: the quarter), the axisymmetric crater's terms on
+:class:`bcfem.kinematics.solid_3d.Solid3D`: its suction cycle, and its first non-axisymmetric
+bifurcation and the branch past it.
 
-``model`` (the wedge, its mirror multiplier), ``onset`` (the first bifurcation), ``branch`` (the
-critical mode, the branch past it) and ``paths`` (the drivers as functions, loaded on first use).
+Vented loading to the preload, the crater sealed there with air at p_a, unloading to eps = 0
+(the dissertation's Steps 1–2), with the bottom face held on the plate (free to slide) and the
+top face on the platen (frictionless). The platen is the lift w z/H of the kinematics. The mirror
+faces keep the wedge's share of a response with the wedge's symmetry (n = 0, m, 2m, ...
+circumferential waves; :mod:`.model`); the wall is checked to stay above the plate (no contact is modelled
+here). Pressures in p_a, lengths in mm as the crater scene.
+
+``params`` (no dolfinx) and ``scene`` (the CLI's ``bcfem run crater-sector``); ``model`` (the wedge,
+its mirror multiplier), ``onset`` (the first bifurcation), ``branch`` (the critical mode, the
+branch past it) and ``paths`` (the drivers as functions, loaded on first use, so that the command
+line checks the parameters before the finite-element stack is imported).
 """
 
 from __future__ import annotations
 
+from bcfem.scenes.crater_sector.params import DESCRIPTION, SUMMARY, Params, columns
+
 _PATHS = ("axisymmetric_suction_waves", "cycle", "drawn_stability", "first_onset", "loading_stability",
           "suction_stability")
+
+
+def build(params: Params, comm):
+    """The scene (meshed when solved), for :mod:`bcfem.run.runner`."""
+    from bcfem.scenes.crater_sector.scene import SectorScene
+
+    return SectorScene(params, comm)
+
+
+def solve(params: Params, comm) -> tuple[list[dict], dict]:
+    """One run in memory: (rows, summary)."""
+    from bcfem.run.runner import solve_rows
+
+    return solve_rows(build(params, comm), comm)
 
 
 def __getattr__(name: str):
@@ -21,4 +46,5 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = list(_PATHS)
+COLUMNS = columns("cycle")
+__all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "Params", "build", "solve", *_PATHS]

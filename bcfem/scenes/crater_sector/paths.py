@@ -13,6 +13,7 @@ from dolfinx import fem
 
 from bcfem.geometry.crater_sector import WALL, CraterSector
 from bcfem.mpi import global_sum, real_value
+from bcfem.path.stepping import SteppingError
 from bcfem.physics.cavity import Cavity
 from bcfem.physics.fluids import IdealGas, IncompressibleLiquid, Vacuum
 from bcfem.scenes.crater_sector.branch import wave_branch
@@ -40,7 +41,7 @@ def cycle(preload: float, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4
     def record(stage, eps, p):
         V2, A2 = global_sum(volume), global_sum(opening)
         if model.lowest_wall_point() < -1e-9 * a:
-            raise RuntimeError(f"the crater wall passed through the plate at eps = {eps:g} (no contact here)")
+            raise SteppingError(f"the crater wall passed through the plate at eps = {eps:g} (no contact here)", eps)
         rows.append({"stage": stage, "eps": eps, "p_over_pa": p, "V_over_V0": V2 / V0, "A_over_A0": A2 / A0,
                      "F_tilde": (1 - p) * A2 / A0})
 
@@ -48,7 +49,7 @@ def cycle(preload: float, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4
         for eps in strains:
             model.set_platen(eps)
             if not problem.solve():
-                raise RuntimeError(f"{stage}: Newton failed at eps = {eps:g} ({problem.failure})")
+                raise SteppingError(f"{stage}: Newton failed at eps = {eps:g} ({problem.failure})", eps)
             record(stage, eps, pressure())
 
     loading = Problem(ctx, solids, bcs, "bcfem_crater_sector_load_", energy_scale=model.energy_scale)
