@@ -2,13 +2,13 @@
 
 F~ per crater and per unit area (F~ x F) at zero platen force after a cycle to the preload
 0.1, for the hemisphere (the experiment's a = 6.35 mm, H = 35.13 mm, beta = 0.467), on the
-square lattice with air and a liquid and on the hexagonal lattice with air, from the sparse
+square and hexagonal lattices with air and a liquid, from the sparse
 limit (d = 8a) towards close packing; the isolated crater in a wide specimen
 (``bcfem run crater --specimen-radius 101.6``) is the F -> 0 reference. One core, the
 scene's default mesh (size-wall 0.3, size-rim 0.1, size-far 0.8: at d = 8a, F~ within 0.1 % of
 the isolated crater in a wide specimen).
 
-Usage (from the repository root; about 8 min on one free core)::
+Usage (from the repository root; about 10 min on one free core)::
 
     .venv/bin/python benchmarks/crater_cell_filling.py
 
@@ -30,7 +30,7 @@ OUT = Path(__file__).resolve().parent.parent / "docs" / "figures" / "crater_cell
 PRELOAD = 0.1
 CASES = [("square", "air", f) for f in (math.pi / 64, 0.1, 0.2, 0.35, 0.5, 0.65)] \
     + [("square", "liquid", f) for f in (math.pi / 64, 0.2, 0.5)] \
-    + [("hexagonal", "air", f) for f in (0.2, 0.5, 0.8)]
+    + [("hexagonal", fluid, f) for fluid in ("air", "liquid") for f in (0.2, 0.5, 0.8)]
 COLUMNS = ["lattice", "fluid", "filling", "spacing_over_a", "status", "F_tilde", "F_tilde_area", "p2_over_pa",
            "V1_over_V0", "A2_over_A0", "lateral_strain_at_preload", "platen_force_at_preload", "dofs",
            "wall_time_s"]
@@ -76,7 +76,7 @@ def plot(rows) -> None:
 
     fig, (ax, axa) = plt.subplots(1, 2, figsize=(9, 3.4))
     for (lattice, fluid), style in ((("square", "air"), "-o"), (("square", "liquid"), "--s"),
-                                    (("hexagonal", "air"), ":^")):
+                                    (("hexagonal", "air"), ":^"), (("hexagonal", "liquid"), "-.v")):
         part = [r for r in rows if r["lattice"] == lattice and r["fluid"] == fluid and r["F_tilde"] is not None]
         F = [r["filling"] for r in part]
         ax.plot(F, [r["F_tilde"] for r in part], style, ms=4, label=f"{lattice}, {fluid}")
