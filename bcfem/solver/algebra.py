@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 
 class ConvergedAlgebra:
     """Vectors, index maps and Jacobian solves of a :class:`bcfem.solver.problem.Problem` (which
-    provides ``states``, ``names``, ``bcs``, ``ctx``, ``comm``, ``prefix``, ``snes``,
+    provides ``states``, ``names``, ``bcs``, ``ctx``, ``comm``, ``prefix``, ``options``, ``snes``,
     ``_nlp``, ``_bounds`` and ``_tangent_ksp``)."""
 
     states: list[fem.Function]
@@ -34,6 +34,7 @@ class ConvergedAlgebra:
     bcs: list
     ctx: Context
     prefix: str
+    options: dict[str, str]
     snes: PETSc.SNES
     _nlp: NonlinearProblem
     _bounds: tuple[PETSc.Vec, ...]

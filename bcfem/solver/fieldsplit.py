@@ -76,7 +76,7 @@ def rigid_body_modes(problem: ConvergedAlgebra, names: list[str], rows: np.ndarr
             modes[gdim + k, at[:, i]] = -x[:, j]
             modes[gdim + k, at[:, j]] = x[:, i]
     comm = problem.snes.comm
-    vectors = []
+    vectors: list[PETSc.Vec] = []
     for mode in modes:
         v = PETSc.Vec().createMPI((rows.size, PETSc.DETERMINE), comm=comm)
         v.array[:] = mode
