@@ -99,6 +99,18 @@ def test_a_sparse_cell_spreads_in_uniaxial_stress(fluid):
     assert summary["F_tilde_area"] == pytest.approx(summary["F_tilde"] * params.filling, rel=1e-12)
 
 
+@pytest.mark.slow
+def test_stability_none_skips_the_count_only():
+    """--stability none (a cell too large to factorise) gives the same cycle without the inertia
+    counts, and says that stability was not checked."""
+    counted = crater_cell.solve(crater_cell.Params(**SPARSE), MPI.COMM_WORLD)[1]
+    skipped = crater_cell.solve(crater_cell.Params(**SPARSE, stability="none"), MPI.COMM_WORLD)[1]
+    assert counted["stability"] == "stable" and skipped["stability"] == "not checked"
+    assert skipped["time_split_s"]["stability"] == 0.0
+    for key in ("F_tilde", "p2_over_pa", "V2_over_V0", "eps_at_zero_force"):
+        assert skipped[key] == pytest.approx(counted[key], rel=1e-10), key
+
+
 @pytest.mark.mpi
 def test_two_ranks_equal_serial():
     if MPI.COMM_WORLD.size == 1:

@@ -86,6 +86,10 @@ class Params:
         "gamma / (mu a) of the crater walls, 0: none", bound=Bound(0, 0.1)))
     strain_step: float = field(default=0.0125, metadata=describe(
         "platen strain between checkpoints of both stages (failed steps are halved)", bound=Bound(1e-3, 0.1)))
+    stability: str = field(default="inertia", metadata=describe(
+        "inertia: count the tangent's negative eigenvalues after every step (a MUMPS LDL^T "
+        "factorisation each, also under an iterative solver); none: skip it (a cell too large to "
+        "factorise; summary.json then says 'not checked')", "", ("inertia", "none")))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage", "",
         bound=Bound(0, 1000, integer=True)))
@@ -94,7 +98,8 @@ class Params:
 
     def __post_init__(self):
         check_bounds(self)
-        for name, choices in (("lattice", LATTICES), ("fluid", FLUID_NAMES), ("cell", CELLS)):
+        for name, choices in (("lattice", LATTICES), ("fluid", FLUID_NAMES), ("cell", CELLS),
+                              ("stability", ("inertia", "none"))):
             require(getattr(self, name) in choices,
                     f"--{name} must be one of {list(choices)} (got {getattr(self, name)!r})")
         require(self.size_rim <= self.size_wall,
