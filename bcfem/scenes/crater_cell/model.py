@@ -4,7 +4,7 @@ The displacement is u = ũ + (e_x x, e_y y, 0) (the lift of :class:`bcfem.kinema
 with ũ held normal to every side face: each side face stays on its plane, the faces x = Lx
 and y = Ly move with the lateral macroscopic strains e_x, e_y (real-space states; in the
 eighth cell one strain e_x = e_y, the diagonal face y = x held by
-:class:`bcfem.scenes.crater_sector.model.MirrorPlane`, a multiplier field). Their
+:class:`bcfem.physics.bcs.MirrorPlane`, a multiplier field). Their
 residuals are the derivatives of the energy, the mean lateral tractions on the side faces: zero,
 so the array spreads freely under the platen (uniaxial stress on average). The platen is
 ũ_z = -eps H on the top face, the plate ũ_z = 0 on the bottom face (both frictionless); the
@@ -29,7 +29,7 @@ from bcfem.geometry.crater_cell import BOTTOM, DIAGONAL, MIRROR_X, MIRROR_Y, SID
 from bcfem.kinematics.solid_3d import Solid3D
 from bcfem.kinematics.submesh import BoundaryPatch
 from bcfem.mpi import global_sum, real_value
-from bcfem.physics.bcs import component
+from bcfem.physics.bcs import MirrorPlane, component
 from bcfem.physics.cavity import Cavity
 from bcfem.physics.context import Context
 from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
@@ -38,7 +38,6 @@ from bcfem.physics.materials import NearlyIncompressibleNeoHookean
 from bcfem.physics.viscosity import Viscosity
 from bcfem.scenes.crater.model import CONTACT_GAP
 from bcfem.scenes.crater_cell.params import Params
-from bcfem.scenes.crater_sector.model import MirrorPlane
 
 #: the lateral strains' states, along x and y
 LATERAL = ("lateral_strain_x", "lateral_strain_y")

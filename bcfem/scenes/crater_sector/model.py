@@ -12,7 +12,6 @@ pressures; it needs no penalty or Nitsche parameter, and no change of basis insi
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 from mpi4py import MPI
 
@@ -35,39 +34,10 @@ from bcfem.geometry.crater_sector import (
 from bcfem.kinematics.solid_3d import Solid3D
 from bcfem.kinematics.submesh import BoundaryPatch
 from bcfem.mpi import global_sum
-from bcfem.physics.bcs import component
+from bcfem.physics.bcs import MirrorPlane, component
 from bcfem.physics.context import Context
 from bcfem.physics.energies import SolidStrain
 from bcfem.physics.materials import NearlyIncompressibleNeoHookean
-
-
-@dataclass(frozen=True)
-class MirrorPlane:
-    r"""The displacement held in a mirror plane through the z axis at the angle ``angle``:
-    :math:`\int_\Gamma \lambda\, u\cdot n\, dA`, n = (-sin, cos, 0), with the multiplier field
-    :math:`\lambda` (P2 on the face's submesh, the trace space of u.n, so that the constraint is
-    u.n = 0 at every node of the face: its mass matrix is invertible). :math:`\lambda` is the
-    face's normal traction (per reference area, over the energy scale). One multiplier per face
-    node, each one negative eigenvalue of the tangent (:mod:`bcfem.stability.inertia`).
-
-    Attributes:
-        patch: the face's submesh.
-        angle: its polar angle theta [rad].
-    """
-
-    patch: BoundaryPatch
-    angle: float
-    name = "mirror_plane"
-    multipliers = ("mirror_traction",)
-
-    def energy(self, ctx: Context) -> ufl.Form:
-        traction = self.patch.state(ctx, "mirror_traction", ("Lagrange", 2))
-        normal = ufl.as_vector([-math.sin(self.angle), math.cos(self.angle), 0.0])
-        # a zero lambda-lambda block that is assembled, so that the multiplier's rows have their
-        # diagonal in the matrix's pattern: PETSc's zeroRowsColumns (the unknowns held on the
-        # plate, in the solver's reduced step and the inertia count) refuses a matrix without
-        return ctx.kin.surface_integral(traction * ufl.dot(ctx.u, normal)
-                                        + ctx.constant("mirror_pattern", 0.0) * traction**2, self.patch.tag)
 
 
 class Sector:
