@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     from bcfem.physics.protocols import Enclosure
 
 
-def _spread(ctx, value):
+def over_body(ctx: Context, value) -> ufl.Form:
     """``value`` as an integrand over the body: value / |body| dx (|body| a run-time constant)."""
     measure = ctx.constant("body_measure", 1.0)
     if measure.value == 1.0:
@@ -79,7 +79,7 @@ class IdealGas(SealedFluid):
 
     def energy(self, ctx: Context) -> ufl.Form:
         p, amount = self.unknowns(ctx)
-        return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, amount * ufl.ln(p))
+        return -(p - 1.0) * self.cavity.volume(ctx.kin) + over_body(ctx, amount * ufl.ln(p))
 
 
 class IncompressibleLiquid(SealedFluid):
@@ -93,7 +93,7 @@ class IncompressibleLiquid(SealedFluid):
         # a zero (p - 1)^2 term puts the pressure's diagonal into the sparsity pattern,
         # which PETSc's VI reduction and zeroRowsColumns need
         zero = ctx.constant("liquid_pressure_diagonal", 0.0)
-        return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(ctx, (p - 1.0) * amount + zero * (p - 1.0) ** 2)
+        return -(p - 1.0) * self.cavity.volume(ctx.kin) + over_body(ctx, (p - 1.0) * amount + zero * (p - 1.0) ** 2)
 
 
 @dataclass(frozen=True)

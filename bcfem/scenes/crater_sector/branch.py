@@ -29,7 +29,7 @@ from bcfem.geometry.crater_sector import WALL
 from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
 from bcfem.physics.cavity import Cavity
-from bcfem.physics.fluids import _spread  # a real state's own row: value / |body| dx
+from bcfem.physics.fluids import over_body
 from bcfem.scenes.crater_sector.model import wall_content
 
 
@@ -115,7 +115,7 @@ class DrawnLiquid:
     def energy(self, ctx) -> ufl.Form:
         p, r = ctx.real_state(self.pressure_name), ctx.real_state(self.fraction_name)
         zero = ctx.constant("liquid_pressure_diagonal", 0.0)  # the diagonals in the pattern
-        return -(p - 1.0) * self.cavity.volume(ctx.kin) + _spread(
+        return -(p - 1.0) * self.cavity.volume(ctx.kin) + over_body(
             ctx, (p - 1.0) * (1.0 - r) * self.full_volume + zero * ((p - 1.0) ** 2 + r**2))
 
 
@@ -132,7 +132,7 @@ class WaveAmplitude:
     def energy(self, ctx) -> ufl.Form:
         force, amplitude = ctx.real_state("wave_force"), ctx.constant("wave_amplitude")
         zero = ctx.constant("wave_force_diagonal", 0.0)
-        return ctx.kin.surface_integral(force * wall_content(ctx, ctx.u, self.waves) / self.norm, WALL) + _spread(
+        return ctx.kin.surface_integral(force * wall_content(ctx, ctx.u, self.waves) / self.norm, WALL) + over_body(
             ctx, -force * amplitude + zero * force**2)
 
 
@@ -174,7 +174,7 @@ def wave_branch(model, problem, terms, fraction: float, amplitudes, count, cutba
     zero = ctx.constant("drawn_fraction_diagonal", 0.0)  # r's diagonal in the pattern (see DrawnLiquid)
     result = {"mode": {"mu": mu, "fourier": content}, "waves": n, "rows": [], "failure": None}
     with Problem(ctx, [*terms, liquid, wave], model.bcs, f"bcfem_crater_sector_wave_{ctx.mesh.comm.size}_",
-                 {"snes_type": "vinewtonrsls"}, rows={"drawn_fraction": _spread(ctx, (force + zero * r_state) * row)},
+                 {"snes_type": "vinewtonrsls"}, rows={"drawn_fraction": over_body(ctx, (force + zero * r_state) * row)},
                  energy_scale=model.energy_scale, line_search_fallbacks=("bt",)) as path:
         model.contact_bounds(path)
         index = {name: i for i, name in enumerate(path.names)}
