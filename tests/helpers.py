@@ -22,9 +22,9 @@ def bcfem(*args, ranks: int = 1, timeout: float = 600, env: dict | None = None) 
     return subprocess.run(cmd, capture_output=True, text=True, env=full, timeout=timeout)
 
 
-def exact_nominal_stress(stretch, kappa):
-    """Uniaxial stress of W = (I1-3)/2 - ln J + p(J-1) - p^2/(2 kappa), mu = 1, p = kappa (J - 1):
-    the lateral stretch l makes the lateral stress vanish."""
+def exact_uniaxial(stretch, kappa):
+    """(lateral stretch l, nominal stress) of uniaxial stress in W = (I1-3)/2 - ln J + p(J-1)
+    - p^2/(2 kappa), mu = 1, p = kappa (J - 1): l makes the lateral stress vanish."""
 
     def lateral_stress(l):
         J = stretch * l * l
@@ -32,7 +32,12 @@ def exact_nominal_stress(stretch, kappa):
 
     l = brentq(lateral_stress, 0.2, 3.0, xtol=1e-15)
     J = stretch * l * l
-    return stretch - 1 / stretch + kappa * (J - 1) * J / stretch
+    return l, stretch - 1 / stretch + kappa * (J - 1) * J / stretch
+
+
+def exact_nominal_stress(stretch, kappa):
+    """The nominal stress of :func:`exact_uniaxial`."""
+    return exact_uniaxial(stretch, kappa)[1]
 
 
 def same_loads(rows, reference, load: str, rtol: float = 1e-9) -> list[tuple[dict, dict]]:
