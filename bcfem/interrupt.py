@@ -11,6 +11,7 @@ at its next evaluation, and :func:`check` (collective, after every SNES solve) r
 
 from __future__ import annotations
 
+import functools
 import signal
 from contextlib import contextmanager
 from typing import Any
@@ -21,6 +22,7 @@ _received = 0  # the first signal's number (0: none)
 _installed = False
 _raise_at_once = False
 _deferred = 0  # depth of the regions where the handler must not raise
+_compiles_deferred = False  # dolfinx's form compiles wrapped in deferred()
 
 
 class Interrupted(BaseException):
@@ -45,6 +47,27 @@ def install(comm) -> None:
     global _installed, _raise_at_once
     _installed, _raise_at_once = True, comm.size == 1
     reinstall()
+    _defer_compiles()
+
+
+def _defer_compiles() -> None:
+    """Form compiles run :func:`deferred`. FFCx removes a failed compile's lock (its ``.c`` file
+    in the cache, whose ``.so`` others wait for) on an ``Exception`` only: :class:`Interrupted`
+    raised mid-compile would leave it, and every later compile of that form would time out."""
+    from dolfinx import jit
+
+    global _compiles_deferred
+    if _compiles_deferred:
+        return
+    _compiles_deferred = True
+    compile_form = jit.ffcx_jit
+
+    @functools.wraps(compile_form)
+    def ffcx_jit(*args, **kwargs):
+        with deferred():
+            return compile_form(*args, **kwargs)
+
+    jit.ffcx_jit = ffcx_jit
 
 
 def reinstall() -> None:

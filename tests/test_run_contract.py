@@ -122,6 +122,38 @@ def test_a_signal_ends_a_run_with_status_interrupted(tmp_path, signum):
                             res.stderr), res.stderr
 
 
+COMPILE_UNDER_A_SIGNAL = """
+import os, signal, sys, threading
+import dolfinx_solver
+from mpi4py import MPI
+import ufl
+from dolfinx import fem, mesh
+from bcfem import interrupt
+interrupt.install(MPI.COMM_WORLD)
+msh = mesh.create_unit_square(MPI.COMM_WORLD, 2, 2)
+u = fem.Function(fem.functionspace(msh, ("Lagrange", 4)))
+energy = ufl.exp(ufl.sin(u) ** 7 + ufl.cos(u) ** 5) * ufl.inner(ufl.grad(u), ufl.grad(u)) ** 3 * ufl.dx
+form = ufl.derivative(energy, u, ufl.TestFunction(u.function_space))  # a compile of 1-2 s
+threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
+fem.form(form, jit_options={"cache_dir": sys.argv[1]})
+print("compiled", interrupt.requested())
+"""
+
+
+@pytest.mark.serial
+def test_a_signal_during_a_form_compile_lets_it_finish(tmp_path):
+    """FFCx removes a failed compile's lock file (the ``.c`` whose ``.so`` other processes wait
+    for) on an Exception only: a signal raised mid-compile would leave it, and every later compile
+    of that form would time out. bcfem defers the signal until the compile is done."""
+    cache = tmp_path / "cache"
+    done = subprocess.run([str(BIN / "python"), "-c", COMPILE_UNDER_A_SIGNAL, str(cache)], capture_output=True,
+                          text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.split() == ["compiled", "True"]
+    sources = {p.stem for p in cache.glob("*.c")}
+    assert sources and all(list(cache.glob(f"{stem}*.so")) for stem in sources)
+
+
 @pytest.mark.serial
 @pytest.mark.parametrize("rank", [None, 1])
 def test_a_signal_to_mpirun_or_one_rank_gives_the_same_status(tmp_path, rank):
