@@ -18,14 +18,14 @@ MPI_PYTEST := PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytes
 test: venv
 	$(BIN)/ruff check .
 	$(BIN)/mypy
-	./tools/test-fast.sh
+	./tools/test-halves.sh
 	$(MPI_PYTEST) -m "mpi and not slow and not convergence and not demo and not study" tests
 
 # everything: adds full crater cycles, convergence studies and the demos (serial and on NP ranks)
 test-all: venv
 	$(BIN)/ruff check .
 	$(BIN)/mypy
-	BCFEM_FULL_DRAW=1 $(PYTEST) -m "not study" --durations=20 tests
+	BCFEM_FULL_DRAW=1 WEIGHTS=tools/test-durations-all.txt ./tools/test-halves.sh -m "not study" --durations=20
 	$(MPI_PYTEST) -m "mpi and not study" tests
 
 # checks of a minute or more each (contact cycles, plate contact in a cell): not in CI

@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
-# The fast tier's serial tests in two pytest processes side by side (one per core: each test
-# is a serial solve), then both reports; exits non-zero if either failed. The files are split
-# into halves of about equal time by tools/test-durations.txt (`--record` measures it again).
+# A tier's serial tests in two pytest processes side by side (one per core: each test is a
+# serial solve), then both reports; exits non-zero if either failed. Arguments go to pytest
+# (none: the fast tier; `-m "not study"`: every test but the studies). The files are split into
+# halves of about equal time by $WEIGHTS (default tools/test-durations.txt, the fast tier's;
+# tools/test-durations-all.txt is the full tier's); `--record [ARGS]` measures it again.
 set -u
 cd "$(dirname "$0")/.."
 PY=${PY:-.venv/bin/python}
-WEIGHTS=tools/test-durations.txt
+WEIGHTS=${WEIGHTS:-tools/test-durations.txt}
 if [ "${1:-}" = "--record" ]; then
+  shift
   log=$(mktemp)
-  "$PY" -m pytest -q -p no:cacheprovider --durations=0 tests >"$log" 2>&1
+  "$PY" -m pytest -q -p no:cacheprovider --durations=0 "$@" tests >"$log" 2>&1
   { head -2 "$WEIGHTS"
     grep -E '^[0-9.]+s (call|setup|teardown)' "$log" \
       | awk '{split($3, a, "::"); t[a[1]] += $1} END {for (f in t) printf "%s %.1f\n", f, t[f]}' | sort -k2 -rn
