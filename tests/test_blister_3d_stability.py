@@ -97,6 +97,7 @@ def test_broken_branch_is_stable_and_holds_less_pressure(rectangle):
     assert max(abs(row["centroid_y"]) for row in broken) < 1e-10
 
 
+@pytest.mark.slow
 @pytest.mark.mpi
 def test_two_ranks_locate_the_serial_bifurcation_and_take_its_side():
     """Counts are global (MUMPS' inertia with ICNTL(13) = 1): the mesh distributed over the ranks

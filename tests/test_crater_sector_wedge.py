@@ -40,6 +40,7 @@ def test_the_wedge_is_its_share_of_the_specimen(m):
         assert total(1 * ds(face)) == pytest.approx(R * H - math.pi * a**2 / 4, rel=1e-4)
 
 
+@pytest.mark.slow
 @pytest.mark.mpi
 def test_the_wedge_cycle_equals_the_axisymmetric_crater():
     comm = MPI.COMM_WORLD
