@@ -22,6 +22,19 @@ def bcfem(*args, ranks: int = 1, timeout: float = 600, env: dict | None = None) 
     return subprocess.run(cmd, capture_output=True, text=True, env=full, timeout=timeout)
 
 
+def serial_and_parallel(out, *args) -> tuple[dict, dict]:
+    """The ``summary.json`` of ``bcfem ARGS`` run serially and under ``mpirun -n 2``, each into its
+    own directory under ``out``; either failing fails the test."""
+    import json
+
+    summaries = []
+    for ranks in (1, 2):
+        done = bcfem(*args, "--out", out / f"n{ranks}", ranks=ranks)
+        assert done.returncode == 0, done.stderr
+        summaries.append(json.loads((out / f"n{ranks}" / "summary.json").read_text()))
+    return summaries[0], summaries[1]
+
+
 def exact_uniaxial(stretch, kappa):
     """(lateral stretch l, nominal stress) of uniaxial stress in W = (I1-3)/2 - ln J + p(J-1)
     - p^2/(2 kappa), mu = 1, p = kappa (J - 1): l makes the lateral stress vanish."""

@@ -2,7 +2,6 @@
 configurational force, the onset and the moving front against blister-rigid's adhesive edge,
 an ellipse's front, 2 ranks against serial, and bad input."""
 
-import json
 import math
 
 from mpi4py import MPI
@@ -13,7 +12,7 @@ import pytest
 from bcfem.run.runner import solve_rows
 from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_3d, blister_rigid
-from tests.helpers import bcfem, refused
+from tests.helpers import refused, serial_and_parallel
 
 #: neo-Hookean, alpha = 0.5, gamma_ls - dgamma = 2.5: blister-rigid --adhesion 2.5
 CASE = {"edge": "adhesive", "alpha": 0.5, "gamma_ls": 3.0, "delta_gamma": 0.5}
@@ -109,14 +108,9 @@ def test_ellipse_debonds_along_its_minor_axis():
 def test_two_ranks_equal_serial(tmp_path):
     """A coarse circle to past its onset, the front moved twice: 2 ranks give the serial onset
     and front."""
-    runs = {}
-    for ranks in (1, 2):
-        out = tmp_path / f"n{ranks}"
-        done = bcfem("run", "blister-3d", "--edge", "adhesive", "--alpha", "0.5", "--size", "0.2",
-                     "--v-max", "4", "--front-steps", "2", "--quiet", "--no-plots", "--out", out, ranks=ranks)
-        assert done.returncode == 0, done.stderr
-        runs[ranks] = json.loads((out / "summary.json").read_text())
-    serial, parallel = runs[1], runs[2]
+    serial, parallel = serial_and_parallel(tmp_path, "run", "blister-3d", "--edge", "adhesive", "--alpha", "0.5",
+                                           "--size", "0.2", "--v-max", "4", "--front-steps", "2", "--quiet",
+                                           "--no-plots")
     assert parallel["delamination_onset"]["V_over_V0"] == pytest.approx(
         serial["delamination_onset"]["V_over_V0"], rel=1e-8)
     assert parallel["front"]["R_front"] == pytest.approx(serial["front"]["R_front"], rel=1e-6)

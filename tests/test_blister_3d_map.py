@@ -14,7 +14,7 @@ from bcfem.run.runner import solve_rows
 from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_3d
 from bcfem.scenes.blister_3d.pattern import parse
-from tests.helpers import bcfem, refused
+from tests.helpers import bcfem, refused, serial_and_parallel
 
 #: neo-Hookean, alpha = 0.5, gamma_ls - dgamma = 2.5 (blister-rigid --adhesion 2.5)
 CASE = {"edge": "adhesive", "alpha": 0.5, "gamma_ls": 3.0}
@@ -100,15 +100,9 @@ def test_two_ranks_equal_serial_on_a_map(tmp_path):
     give the serial onset and front."""
     xs = np.linspace(-2, 2, 81)
     text = write_map(tmp_path / "map.txt", xs, [-2.0, 2.0], lambda p: 0.5 - 0.5 * np.cos(4 * np.pi * p[:, 0]))
-    runs = {}
-    for ranks in (1, 2):
-        out = tmp_path / f"n{ranks}"
-        done = bcfem("run", "blister-3d", "--edge", "adhesive", "--alpha", "0.5", "--delta-gamma", text,
-                     "--size", "0.2", "--v-max", "1.8", "--front-steps", "2", "--quiet", "--no-plots", "--out", out,
-                     ranks=ranks)
-        assert done.returncode == 0, done.stderr
-        runs[ranks] = json.loads((out / "summary.json").read_text())
-    serial, parallel = runs[1], runs[2]
+    serial, parallel = serial_and_parallel(tmp_path, "run", "blister-3d", "--edge", "adhesive", "--alpha", "0.5",
+                                           "--delta-gamma", text, "--size", "0.2", "--v-max", "1.8",
+                                           "--front-steps", "2", "--quiet", "--no-plots")
     assert parallel["delamination_onset"]["V_over_V0"] == pytest.approx(
         serial["delamination_onset"]["V_over_V0"], rel=1e-8)
     assert parallel["front"]["R_front"] == pytest.approx(serial["front"]["R_front"], rel=1e-6)
