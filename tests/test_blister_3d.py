@@ -3,6 +3,7 @@ convergence, its outlines' checks, and 2 ranks against serial."""
 
 import json
 import math
+from pathlib import Path
 
 from mpi4py import MPI
 
@@ -13,6 +14,9 @@ from bcfem.geometry.outline import check_polygon
 from bcfem.run.trace import branch_of
 from bcfem.scenes import blister_3d
 from tests.helpers import bcfem, refused
+
+#: a polygon outline (--mesh mirrored takes a circle, an ellipse or a rectangle only)
+HEXAGON = Path(__file__).resolve().parent.parent / "docs" / "figures" / "blister_3d" / "hexagon.txt"
 
 #: blister-rigid's P_max, neo-Hookean, alpha = 0 (the axisymmetric scene at 400 P2 cells)
 NEO_HOOKEAN_P_MAX = 1.879173
@@ -126,6 +130,9 @@ def test_a_self_intersecting_polygon_is_refused():
     (["--outline", "circle", "--aspect", "2"], "--aspect"),
     (["--aspect", "0"], "--aspect"),
     (["--size", "0.001"], "--size"),
+    (["--outline", "polygon", "--vertices", str(HEXAGON), "--mesh", "mirrored"], "--mesh"),
+    (["--edge", "adhesive", "--follow", "broken"], "--follow"),
+    (["--mesh", "quarter"], "--mesh"),
 ])
 def test_bad_input_exits_2(tmp_path, argv, name):
     assert name in refused("run", "blister-3d", *argv, out=tmp_path / "out")
