@@ -81,10 +81,14 @@ def _locked(parser, args, comm):
 
 
 def _run(parser, args, module, params, comm) -> int:
-    from bcfem import interrupt
+    import time
+
+    from bcfem import interrupt, jit
     from bcfem.run import runner
     name = f"bcfem run {args.scene}"
     with _locked(parser, args, comm):
+        jit.install()
+        started = (time.perf_counter(), jit.tally())  # the wall time and compiles count from the build
         try:
             scene = module.build(params, comm)
         except (Exception, interrupt.Interrupted) as err:
@@ -94,7 +98,7 @@ def _run(parser, args, module, params, comm) -> int:
             _say(comm, f"{name}: {summary['error']} (the traceback is in {args.out / 'summary.json'})")
             return 1
         try:
-            summary = runner.run(scene, args.out, comm, plots=args.plots)
+            summary = runner.run(scene, args.out, comm, plots=args.plots, started=started)
         except interrupt.Interrupted as err:
             if err.run is None:  # before the solve began: still a status on disk
                 runner.write_unsolved(args.out, args.scene, params, err, comm)
@@ -116,6 +120,9 @@ def _profile(summary: dict) -> str:
     wall = summary["wall_time_s"]
     lines = [f"{part:24s} {seconds:8.3f} s {100 * seconds / wall:5.1f} %"
              for part, seconds in summary["time_split_s"].items()]
+    compiled = summary["jit"]
+    lines.append(f"forms compiled {compiled['compiled']} ({compiled['compile_s']:.3f} s), "
+                 f"loaded from the cache {compiled['loaded']} ({compiled['load_s']:.3f} s)")
     return "\n".join([f"wall time {wall:.3f} s on {summary['ranks']} rank(s), {summary['dofs']} dofs, "
                       f"{summary['steps']} steps, {summary['newton_iterations']} Newton iterations, "
                       f"{summary['failed_solves']} failed solves", *lines])

@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from time import perf_counter
 from typing import TYPE_CHECKING
 
 from bcfem.log import progress
@@ -305,9 +304,8 @@ class LoadPath:
             self.unstable = unstable
         if self.waves is None:
             return
-        t0 = perf_counter()
-        counts = self.waves()
-        self.problem.timings["stability"] += perf_counter() - t0
+        with self.problem.timed("stability"):
+            counts = self.waves()
         waves = _unstable_waves(counts)
         if waves != self.unstable_waves:
             # more unstable directions with n waves than axisymmetric ones: the loss of stability

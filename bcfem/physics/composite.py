@@ -82,6 +82,6 @@ class Scaled:
         return tuple(getattr(self.term, "multipliers", ()))
 
     def energy(self, ctx: Context) -> ufl.Form:
-        k = ctx.constant(self.constant, self.value)
+        k = ctx.parameters(self, {"value": self.constant}).value
         form = self.term.energy(ctx)
         return ufl.Form([i.reconstruct(integrand=k * i.integrand()) for i in form.integrals()])

@@ -6,14 +6,29 @@ with :meth:`Context.real_state`; the problem builder later collects every state
 the terms asked for. A state may live on another mesh than the displacement (a
 field on a boundary submesh, :mod:`bcfem.kinematics.submesh`): the context then keeps the
 entity map that relates that mesh to its own, for every form to compile with.
-Run-time parameters are ``fem.Constant`` so forms compile once.
+Every number a user or a sweep can change reaches UFL as a ``fem.Constant``, so a form
+depends only on its structure and compiles once: a term's own parameters through
+:meth:`Context.parameters` (two instances, two constants), a model's named controls (a volume
+target, a suction ramp) through :meth:`Context.constant`.
 """
 
 from __future__ import annotations
 
+import copy
+import dataclasses
+import math
+from typing import Any
+
 import basix.ufl
 import dolfinx
 from dolfinx import fem
+
+
+def _is_parameter(field: dataclasses.Field, value) -> bool:
+    """A field declared ``float`` with a finite value is a run-time parameter; a non-finite
+    one (a Gent limit ``Jm = inf``) selects another form, so it stays a number."""
+    return (field.type in ("float", float) and isinstance(value, (int, float)) and not isinstance(value, bool)
+            and math.isfinite(value))
 
 
 class Context:
@@ -33,6 +48,9 @@ class Context:
         self._real_space = None
         self._states: dict[str, fem.Function] = {"displacement": u}
         self._constants: dict[str, fem.Constant] = {}
+        # id(owner) -> (owner, its copy with constants): the owner is kept so its id stays its own
+        self._owned: dict[int, tuple[Any, Any]] = {}
+        self._named: dict[str, list[fem.Constant]] = {}
         self._entity_maps: list = []
 
     @property
@@ -72,10 +90,75 @@ class Context:
         return self._states[name]
 
     def constant(self, name: str, value: float = 0.0) -> fem.Constant:
-        """The run-time parameter ``name``; ``value`` is used only on creation."""
+        """The model's run-time control ``name`` (a volume target, a suction ramp), shared by
+        every term and path that asks for it by name; ``value`` is used only on creation.
+        A term's own parameter is :meth:`parameters`'s instead.
+
+        Raises:
+            ValueError: ``name`` names term parameters (set them with :meth:`set`).
+        """
+        if name in self._named:
+            raise ValueError(f"{name!r} names a term's parameter: set it with ctx.set({name!r}, value)")
         if name not in self._constants:
             self._constants[name] = fem.Constant(self.mesh, dolfinx.default_scalar_type(value))
         return self._constants[name]
+
+    def parameters[T](self, owner: T, names: dict[str, str] | None = None) -> T:
+        """``owner`` (a frozen dataclass: a term, a material) as its forms see it: a copy whose
+        fields declared ``float`` are ``fem.Constant`` s of this instance. Changing a value then
+        never recompiles a form; two instances of one class are two sets of constants, whatever
+        their values. The same instance
+        gets the same constants on every request (every stage, every derived context). A term
+        asks for a part's parameters itself (``ctx.parameters(self.material)``).
+
+        Args:
+            owner: the instance whose parameters these are.
+            names: field -> a name by which :meth:`set` and :meth:`value` reach the field's
+                constant (several terms may share a name: a ramp of every γl).
+        """
+        key = id(owner)
+        if key not in self._owned:
+            self._owned[key] = (owner, self._with_constants(owner))
+            for field, name in (names or {}).items():
+                self._named.setdefault(name, []).append(getattr(self._owned[key][1], field))
+        return self._owned[key][1]
+
+    def parameter(self, owner, field: str) -> fem.Constant:
+        """The constant of ``owner``'s field ``field`` (:meth:`parameters`)."""
+        constant = getattr(self.parameters(owner), field)
+        if not isinstance(constant, fem.Constant):
+            raise ValueError(f"{type(owner).__name__}.{field} is not a run-time parameter (a finite float field)")
+        return constant
+
+    def _with_constants(self, owner):
+        copied = copy.copy(owner)  # no __init__: the copy's checks ran on the owner
+        for field in dataclasses.fields(owner):
+            value = getattr(owner, field.name)
+            if _is_parameter(field, value):
+                object.__setattr__(copied, field.name, fem.Constant(self.mesh, dolfinx.default_scalar_type(value)))
+        return copied
+
+    def set(self, name: str, value: float) -> None:
+        """Set every constant named ``name``: the control, or the term parameters so named.
+
+        Raises:
+            KeyError: no constant is named so.
+        """
+        found = self._named.get(name, []) + ([self._constants[name]] if name in self._constants else [])
+        if not found:
+            raise KeyError(f"no run-time constant is named {name!r} (named: {sorted(self.names)})")
+        for constant in found:
+            constant.value = value
+
+    def value(self, name: str) -> float:
+        """The value of the constants named ``name`` (:meth:`set`)."""
+        found = self._named.get(name) or [self.constant(name)]
+        return float(found[0].value)
+
+    @property
+    def names(self) -> set[str]:
+        """The names :meth:`set` knows."""
+        return set(self._named) | set(self._constants)
 
     @property
     def entity_maps(self) -> list:

@@ -3,8 +3,8 @@ r"""Energy terms: each returns one scalar UFL form in the reference configuratio
 A term is a frozen dataclass with ``energy(ctx)`` (:class:`bcfem.physics.protocols.Term`).
 Residuals and tangents are never written by hand: the problem builder
 differentiates the sum of the terms.
-Parameters that may change during a run are ``fem.Constant`` (via
-``ctx.constant``), so each form compiles once.
+Every parameter reaches UFL as a ``fem.Constant`` of the term's own
+(``ctx.parameters(self)``), so each form compiles once, whatever the values.
 
 All lengths are in units of the blister radius R0 and energies in units of
 mu_f t0 R0^2 when the membrane scenes use them, but the terms themselves are
@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 import ufl
 
 from bcfem.params import require
+from bcfem.physics.materials import slope
 
 if TYPE_CHECKING:
     from bcfem.physics.context import Context
@@ -44,18 +45,19 @@ class MembraneStrain:
 
     def energy(self, ctx: Context) -> ufl.Form:
         kin = ctx.kin
-        return kin.integral(self.thickness * self.material.strain_energy(kin.I1))
+        thickness, material = ctx.parameters(self).thickness, ctx.parameters(self.material)
+        return kin.integral(thickness * material.strain_energy(kin.I1))
 
     def tractions(self, ctx):
         r"""Membrane tractions (force per current length), eq. 3.35:
         :math:`N_r = (t_0/\lambda_\theta)\,\partial W/\partial\lambda_r`,
         :math:`N_\theta = (t_0/\lambda_r)\,\partial W/\partial\lambda_\theta`."""
         kin = ctx.kin
-        I1 = ufl.variable(kin.I1)
-        dW = ufl.diff(self.material.strain_energy(I1), I1)
+        thickness, material = ctx.parameters(self).thickness, ctx.parameters(self.material)
+        dW = slope(material, kin.I1)
         lr, lt = kin.lam_r, kin.lam_theta
-        N_r = self.thickness / lt * dW * (2 * lr - 2 / (lr**3 * lt**2))
-        N_t = self.thickness / lr * dW * (2 * lt - 2 / (lr**2 * lt**3))
+        N_r = thickness / lt * dW * (2 * lr - 2 / (lr**3 * lt**2))
+        N_t = thickness / lr * dW * (2 * lt - 2 / (lr**2 * lt**3))
         return N_r, N_t
 
 
@@ -86,7 +88,7 @@ class SurfaceTension:
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
 
     def energy(self, ctx: Context) -> ufl.Form:
-        gamma = ctx.constant(self.name, self.gamma)
+        gamma = ctx.parameters(self, {"gamma": self.name}).gamma
         if self.profile is not None:
             gamma = gamma * self.profile.shape(ctx.kin.R)
         return ctx.kin.integral(gamma * ctx.kin.area_stretch, self.region)
@@ -154,7 +156,7 @@ class WettedSubstrate:
     multipliers = ()
 
     def energy(self, ctx: Context) -> ufl.Form:
-        gamma = ctx.constant(self.name, self.gamma)
+        gamma = ctx.parameters(self, {"gamma": self.name}).gamma
         if self.profile is not None:
             gamma = gamma * self.profile.shape(ctx.kin.r)
         return ctx.kin.integral(gamma * ctx.kin.projected_area_density, self.region)
@@ -183,7 +185,7 @@ class SolidStrain:
 
     def energy(self, ctx: Context) -> ufl.Form:
         p = ctx.field_state("solid_pressure", self.pressure_degree)
-        return ctx.kin.integral(self.material.density(ctx.kin, p), self.region)
+        return ctx.kin.integral(ctx.parameters(self.material).density(ctx.kin, p), self.region)
 
 
 @dataclass(frozen=True)
@@ -206,5 +208,5 @@ class SolidSurfaceEnergy:
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
 
     def energy(self, ctx: Context) -> ufl.Form:
-        gamma = ctx.constant(self.name, self.gamma)
+        gamma = ctx.parameters(self, {"gamma": self.name}).gamma
         return ctx.kin.surface_integral(gamma * ctx.kin.surface_stretch, self.boundary)

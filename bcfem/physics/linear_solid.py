@@ -85,7 +85,8 @@ class LinearElasticity:
         p = ctx.field_state("solid_pressure", self.pressure_degree)
         eps = kin.strain
         dev = eps - ufl.tr(eps) / 3 * ufl.Identity(3)
-        return kin.integral(self.mu * ufl.inner(dev, dev) + p * ufl.tr(eps) - 0.5 * self.compliance * p**2)
+        own = ctx.parameters(self)
+        return kin.integral(own.mu * ufl.inner(dev, dev) + p * ufl.tr(eps) - 0.5 * own.compliance * p**2)
 
 
 @dataclass(frozen=True)
@@ -111,7 +112,7 @@ class LinearSurfaceTension:
         require(self.gamma >= 0, f"gamma must be >= 0 (got {self.gamma})")
 
     def energy(self, ctx: Context) -> ufl.Form:
-        gamma = ctx.constant(self.name, self.gamma)
+        gamma = ctx.parameters(self, {"gamma": self.name}).gamma
         slope = ufl.grad(ctx.u)[1, 0]
         return ctx.kin.surface_integral(0.5 * gamma * slope**2, self.boundary)
 
@@ -152,9 +153,9 @@ class LinearDropLoads:
 
     def energy(self, ctx: Context) -> ufl.Form:
         kin, u = ctx.kin, ctx.u
-        gamma = ctx.constant("gamma_l", self.gamma_l)
-        normal = gamma * math.sin(self.theta)
-        laplace = 2 * normal / self.contact_radius
+        own = ctx.parameters(self, {"gamma_l": "gamma_l"})
+        normal = own.gamma_l * ufl.sin(own.theta)
+        laplace = 2 * normal / own.contact_radius
         return (-normal * kin.ring_value(u[1], self.wetted)
                 + kin.surface_integral(laplace * u[1], self.wetted)
-                + gamma * self.pull * kin.ring_value(u[0], self.wetted))
+                + own.gamma_l * own.pull * kin.ring_value(u[0], self.wetted))

@@ -3,7 +3,10 @@
 A material is only a strain energy: a frozen, validated dataclass whose
 ``strain_energy(I1)`` returns a UFL expression (energy per unit reference
 volume). Kinematics decide what ``I1`` is (membrane or solid); the material
-does not know.
+does not know. The term that holds a material evaluates it on
+``ctx.parameters(material)``, whose moduli are ``fem.Constant`` s, so that a new
+modulus compiles no form; an infinite ``Jm`` stays a number: it selects the
+neo-Hookean form.
 """
 
 from __future__ import annotations
@@ -56,12 +59,22 @@ class Gent:
         require(self.Jm > 0 and not math.isnan(self.Jm), f"Jm must be > 0 (got {self.Jm}); use inf for neo-Hookean")
 
     def strain_energy(self, I1):
-        if math.isinf(self.Jm):
+        if isinstance(self.Jm, float) and math.isinf(self.Jm):
             return 0.5 * self.mu * (I1 - 3)
         return -0.5 * self.mu * self.Jm * ufl.ln(1 - (I1 - 3) / self.Jm)
 
 
 MATERIALS = {"neo-hookean": NeoHookean, "gent": Gent}
+
+
+def slope(material, I1):
+    r""":math:`\partial W/\partial I_1` of ``material`` at ``I1``, as an expression free of UFL
+    variables: a variable's label is numbered anew on each use, and an interpolation expression
+    (unlike a form) keeps that number in its signature, so it would compile on every build."""
+    from ufl.algorithms import apply_derivatives, strip_variables
+
+    x = ufl.variable(I1)
+    return strip_variables(apply_derivatives.apply_derivatives(ufl.diff(material.strain_energy(x), x)))
 
 
 @dataclass(frozen=True)

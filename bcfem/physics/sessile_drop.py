@@ -69,8 +69,8 @@ class SphericalCapDrop:
 
     def energy(self, ctx: Context) -> ufl.Form:
         kin, u = ctx.kin, ctx.u
-        gamma = ctx.constant("gamma_l", self.gamma_l)
-        v0 = ctx.constant("drop_volume", self.volume)
+        own = ctx.parameters(self, {"gamma_l": "gamma_l", "volume": "drop_volume"})
+        gamma, v0 = own.gamma_l, own.volume
         t = ctx.real_state("cap_slope")
         p = ctx.real_state("drop_pressure")
         r = kin.x[0] + u[0]
@@ -84,7 +84,7 @@ class SphericalCapDrop:
         volume = (at_contact(ufl.pi / 6 * t * (3 + t * t) * r**3 + ufl.pi * r**2 * z)
                   - kin.surface_integral(z * kin.vertical_area(), self.wetted))
         # V0 spread along the wetted meridian (length R0), so that the term is one form
-        spread = kin.line_integral(v0 / self.contact_radius, self.wetted)
+        spread = kin.line_integral(v0 / own.contact_radius, self.wetted)
         return gamma * area - p * volume + p * spread
 
     def angle(self, t: float) -> float:

@@ -8,7 +8,8 @@ records the accepted rows, the effective PETSc options and the cost. Arc-length 
 
 * ``summary.json``: ``status`` (``ok``, ``failed`` or ``interrupted``) and ``error`` (with a
   ``traceback`` for an internal error), the parameters, the scene's results, ``steps``,
-  ``newton_iterations``, ``dofs``, ``ranks``, ``wall_time_s``, ``versions``,
+  ``newton_iterations``, ``dofs``, ``ranks``, ``wall_time_s`` and its split, ``jit`` (the forms
+  compiled and loaded, :mod:`bcfem.jit`), ``versions``,
   ``petsc_options`` (the effective options, by full name) and ``files`` (what the run wrote);
 * ``branch.csv``: the accepted rows; on failure or interruption the converged part is kept;
 * the scene's PNGs, and ``fields.bp`` for scenes with fields (``fields_<name>.bp`` for
@@ -25,7 +26,7 @@ from contextlib import contextmanager
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
 
-from bcfem import interrupt, io
+from bcfem import interrupt, io, jit
 from bcfem.log import logger
 from bcfem.path.continuation import ContinuationError
 from bcfem.path.stepping import SteppingError
@@ -170,13 +171,17 @@ class Run:
         self._close_writers()
 
 
-def solve(scene: Scene, comm, fields_path: Path | None = None) -> tuple[Run, dict]:
+def solve(scene: Scene, comm, fields_path: Path | None = None,
+          started: tuple[float, jit.Tally] | None = None) -> tuple[Run, dict]:
     """Solve ``scene``; returns (the run, its summary). When the path cannot go on, raises
     :class:`SolveError` (with the run, whose ``summary`` says ``failed``); on a signal
     :class:`~bcfem.interrupt.Interrupted` (``status`` ``interrupted``, the run as its ``run``);
     on any other exception a :class:`SolveError` from it (``failed``, with the traceback).
-    With ``fields_path`` the fields the scene watches are written there (VTX)."""
-    t0 = time.perf_counter()
+    With ``fields_path`` the fields the scene watches are written there (VTX). ``started``: the
+    clock and the JIT's tally when the scene began to be built (its wall time and compiles
+    count from there; default: from here)."""
+    jit.install()
+    t0, jit0 = started if started is not None else (time.perf_counter(), jit.tally())
     run = Run(scene, comm, fields_path)
     status, error, raised = "ok", None, None
     try:
@@ -208,7 +213,8 @@ def solve(scene: Scene, comm, fields_path: Path | None = None) -> tuple[Run, dic
         "dofs": run.dofs,
         "ranks": comm.size,
         "wall_time_s": (wall := time.perf_counter() - t0),
-        "time_split_s": time_split(run.timings, wall),
+        "time_split_s": time_split(run.timings, wall, (compiled := jit.tally() - jit0).seconds),
+        "jit": compiled.over(comm),
         "versions": versions(),
         "petsc_options": run.petsc_options,
     }
@@ -226,24 +232,25 @@ def solve_rows(scene: Scene, comm) -> tuple[list[dict], dict]:
     return solved.rows, summary
 
 
-def time_split(timings: dict, wall: float) -> dict:
+def time_split(timings: dict, wall: float, jit_s: float = 0.0) -> dict:
     """Where a run's wall time went. Within Newton: form assembly, discrete terms
     (self-contact), the direct solver's factorisations (analysis included) and its triangular
     solves, and the rest of Newton (line search, active sets, reduced matrices, convergence
-    tests); then stability checks, and everything else (meshing, compilation, observables,
-    relaxation set-up, output)."""
+    tests); then stability checks, the form compiler (compiling and loading forms, wherever
+    it ran), and everything else (meshing, observables, relaxation set-up, output)."""
     split = {"assembly": timings["assembly"], "discrete_terms": timings["discrete_terms"],
              "factorisation": timings["factorisation"], "linear_solve": timings["linear_solve"],
-             "newton_other": timings["newton"], "stability": timings["stability"]}
+             "newton_other": timings["newton"], "stability": timings["stability"], "jit": jit_s}
     split["other"] = wall - sum(split.values())
     return split
 
 
-def run(scene: Scene, out: Path, comm, plots: bool = True) -> dict:
+def run(scene: Scene, out: Path, comm, plots: bool = True, started: tuple[float, jit.Tally] | None = None) -> dict:
     """Solve ``scene`` and write ``out`` (also on failure or a signal, then raising
     :class:`SolveError` or :class:`~bcfem.interrupt.Interrupted` after writing), with the
     scene's PNGs unless ``plots`` is False; returns the summary. The summary's ``files``
-    lists what the run wrote; an earlier run's files not among them are removed."""
+    lists what the run wrote; an earlier run's files not among them are removed. ``started``:
+    as :func:`solve`'s."""
     out = Path(out)
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
@@ -252,7 +259,7 @@ def run(scene: Scene, out: Path, comm, plots: bool = True) -> dict:
     failure = None
     with io.recording() as written:
         try:
-            solved, summary = solve(scene, comm, out / "fields.bp")
+            solved, summary = solve(scene, comm, out / "fields.bp", started)
         except (SolveError, interrupt.Interrupted) as err:
             if err.run is None:
                 raise

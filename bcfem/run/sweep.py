@@ -12,7 +12,7 @@ so a rerun skips it; a failed point is recorded with its reason and the solver
 budgets it had, never dropped (``--retry-failed`` solves it again, and so does a
 rerun with a larger budget). Rank 0 then gathers ``sweep.csv`` and, if it solved
 anything, ``timing.json`` (points solved and reused, ranks, wall time of this
-run). Each point also keeps its own ``solve_time_s``, so the cost of a map
+run). Each point also keeps its own ``solve_time_s`` and ``forms_compiled``, so the cost of a map
 solved over several (interrupted) runs is known. ``summary.json`` gives the sweep's
 ``status``: ``ok``, ``failed`` (some point failed; ``failures`` counts each reason) or
 ``interrupted`` (by a signal: the finished points are kept, a rerun solves the rest).
@@ -35,11 +35,11 @@ from pathlib import Path
 
 import numpy as np
 
-from bcfem import interrupt, io
+from bcfem import interrupt, io, jit
 from bcfem.log import logger
 
 #: kept in a point's record, not in sweep.csv (which depends on the results alone)
-RECORD_ONLY = {"budgets", "solve_time_s"}
+RECORD_ONLY = {"budgets", "solve_time_s", "forms_compiled"}
 
 
 #: the most points one sweep may hold
@@ -251,7 +251,8 @@ def _solve_point(values: dict, params, solve_point, budgets: dict, own) -> dict:
     """One point's record: its results, or why it failed."""
     level = logger.level
     logger.setLevel(logging.WARNING)  # no per-step progress from inside a point
-    start = time.perf_counter()
+    jit.install()
+    start, compiled = time.perf_counter(), jit.tally().compiled
     try:
         row = {**values, "status": "ok", "reason": "", **solve_point(params, own)}
     except Exception as error:  # recorded, never dropped
@@ -261,6 +262,7 @@ def _solve_point(values: dict, params, solve_point, budgets: dict, own) -> dict:
     finally:
         logger.setLevel(level)
     row["solve_time_s"] = time.perf_counter() - start  # kept with the point: survives an interrupted run
+    row["forms_compiled"] = jit.tally().compiled - compiled  # a sweep compiles the forms of one point
     return row
 
 

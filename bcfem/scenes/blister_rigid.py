@@ -222,7 +222,7 @@ def scene_for(model: Model, params: Params) -> BranchScene:
     ctx = model.ctx
     for term in model.terms:
         if isinstance(term, SurfaceTension):
-            ctx.constant(term.name).value = params.alpha
+            ctx.set(term.name, params.alpha)
     model.edge.reset(ctx, params)
 
     def start(fraction: float = 1.0) -> float:

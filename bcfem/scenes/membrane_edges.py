@@ -56,7 +56,7 @@ class Edge:
         """The edge as :data:`EDGES` builds it for ``params``, without compiling anything:
         its constants set from ``params`` and its states restarted."""
         for name, value in self.constants(params).items():
-            ctx.constant(name).value = value
+            ctx.set(name, value)
         self.restart()
 
 

@@ -125,6 +125,9 @@ class ModeContext:
     def constant(self, name: str, value: float = 0.0):
         return self.base.constant(name, value)
 
+    def parameters(self, owner, names=None):
+        return self.base.parameters(owner, names)
+
     @property
     def u(self):
         raise AttributeError("this term needs the displacement itself, which a Fourier mode does not "

@@ -19,6 +19,7 @@ from bcfem.mpi import cell_maximum, global_sum, real_value
 from bcfem.path.branch import Switch
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension, WettedSubstrate
+from bcfem.physics.materials import slope
 from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
 from bcfem.scenes.blister_3d.mirrored import create_mirrored_mesh
 from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, COLUMNS, V0, Params
@@ -41,9 +42,9 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     edge_facets = data.facet_tags.find(EDGE)
     fdim = msh.topology.dim - 1
     bcs = [fem.dirichletbc(np.zeros(3), fem.locate_dofs_topological(V, fdim, edge_facets), V)]
-    terms = [MembraneStrain(params.material_model())]
-    if params.alpha > 0:
-        terms.append(SurfaceTension(params.alpha))
+    strain = MembraneStrain(params.material_model())
+    tension = SurfaceTension(params.alpha) if params.alpha > 0 else None
+    terms = [strain, *([tension] if tension else [])]
     terms.append(PressureVolume())
     adhesive = params.edge == "adhesive"
     patterned = varies(params.delta_gamma)
@@ -68,9 +69,9 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     I1 = cell_maximum(msh, kin.I1 - 3, degree)
     stretch = cell_maximum(msh, kin.principal_stretches()[0], degree)
     heights = V.sub(2).collapse()[1]  # the z components in u.x.array
-    I1_taut = ufl.variable(kin.taut_I1)
-    dW = ufl.diff(params.material_model().strain_energy(I1_taut), I1_taut)
-    N1, N2 = (N + params.alpha for N in kin.principal_tensions(dW))
+    dW = slope(ctx.parameters(strain.material), kin.taut_I1)
+    alpha = ctx.parameters(tension).gamma if tension else 0.0
+    N1, N2 = (N + alpha for N in kin.principal_tensions(dW))
     compression = cell_maximum(msh, -N2, degree)
     wrinkled = fem.form(kin.integral(ufl.conditional(ufl.lt(N2, 0), 1.0, 0.0) / kin.reference_area))
     measures = fem.Function(V, name="measures")

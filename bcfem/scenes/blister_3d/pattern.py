@@ -189,7 +189,8 @@ class PatternedWetting:
     def energy(self, ctx):
         kin = ctx.kin
         X = kin.x - kin.u  # the reference point: the substrate's under the clamped front
-        return kin.integral(ctx.constant("gamma_ls", self.gamma_ls) - expression(self.delta_gamma, X[0], X[1]))
+        gamma_ls = ctx.parameters(self, {"gamma_ls": "gamma_ls"}).gamma_ls
+        return kin.integral(gamma_ls - expression(self.delta_gamma, X[0], X[1]))
 
 
 @dataclass
@@ -230,7 +231,7 @@ class MappedWetting:
         dgamma, nodes = self._fields
         X = kin.x - kin.u
         here = dgamma + ufl.dot(ufl.grad(dgamma), ufl.as_vector([X[0], X[1]]) - nodes)
-        return kin.integral(ctx.constant("gamma_ls", self.gamma_ls) - here)
+        return kin.integral(ctx.parameters(self, {"gamma_ls": "gamma_ls"}).gamma_ls - here)
 
     def refresh(self) -> None:
         """Δγ_h and X_h at the mesh's current nodes (ValueError if a node is off the map)."""

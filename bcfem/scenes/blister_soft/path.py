@@ -124,9 +124,9 @@ def start_path(ctx, params):
     shrink = min(1.0, 1.0 / max([*gammas.values(), 1e-300]))
 
     def path(t):
-        ctx.constant("stiffness_ratio").value = k0 * (k1 / k0) ** t
+        ctx.set("stiffness_ratio", k0 * (k1 / k0) ** t)
         for name, gamma in gammas.items():
-            ctx.constant(name).value = gamma * (shrink + t * (1 - shrink))
+            ctx.set(name, gamma * (shrink + t * (1 - shrink)))
 
     return path
 

@@ -121,7 +121,7 @@ class DropletSoft(StagedScene):
     # -- load and observables -----------------------------------------------------------------
     def set_load(self, load: float) -> None:
         for name, field in TENSIONS.items():
-            self.ctx.constant(name).value = load * getattr(self.params, field)
+            self.ctx.set(name, load * getattr(self.params, field))
 
     def cap_angle(self) -> float:
         """The cap's angle at the contact line (radians): Young's for the linear model."""
@@ -189,10 +189,10 @@ class DropletSoft(StagedScene):
 
     def drop_volume(self) -> float:
         """The drop's volume over R0³ (the constraint's value; nan for the linear model)."""
-        return float(self.ctx.constant("drop_volume").value) if self.drop is not None else math.nan
+        return self.ctx.value("drop_volume") if self.drop is not None else math.nan
 
     def set_volume(self, volume: float) -> None:
-        self.ctx.constant("drop_volume").value = volume
+        self.ctx.set("drop_volume", volume)
 
     def surface_profile(self) -> list[dict]:
         """The top surface at the profile radii (collective): reference R, current r and z,
