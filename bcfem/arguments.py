@@ -7,6 +7,7 @@ import argparse
 import dataclasses
 import functools
 import math
+import textwrap
 from pathlib import Path
 
 from mpi4py import MPI
@@ -118,6 +119,19 @@ def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> No
         parser.add_argument(flag(f.name), dest=f.name, **kwargs)
 
 
+def compiling(params_cls) -> str:
+    """What a new value of each kind of parameter costs the form compiler, for ``--help``."""
+    defaults = params_cls()
+    chosen = [flag(f.name) for f in dataclasses.fields(params_cls)
+              if not dataclasses.is_dataclass(getattr(defaults, f.name))
+              and (f.metadata.get("choices", getattr(params_cls, "CHOICES", {}).get(f.name))
+                   or type(getattr(defaults, f.name)) in (bool, int, str))]
+    return textwrap.fill("Compiling: every number reaches the forms as a constant, so a new value compiles no form "
+            "(a number that is 0 may leave its term out, another form). These select the forms, the "
+            "elements or the mesh, and a new value may compile forms once (FFCx's cache keeps them): "
+            + (", ".join(chosen) or "none") + ".", 80)
+
+
 def _words_or(words: dict, convert):
     def parse(text: str):
         return words[text] if text in words else convert(text)
@@ -139,7 +153,7 @@ def build_parser():
     scenes = run.add_subparsers(dest="scene", required=True, metavar="SCENE", parser_class=_Parser)
     for name, module in REGISTRY.items():
         p = scenes.add_parser(name, help=module.SUMMARY, description=module.DESCRIPTION,
-                              formatter_class=argparse.RawDescriptionHelpFormatter)
+                              epilog=compiling(module.Params), formatter_class=argparse.RawDescriptionHelpFormatter)
         _add_params(p, module.Params, getattr(module, "HELP", {}))
         p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
         p.add_argument("--quiet", action="store_true", help="no progress line")

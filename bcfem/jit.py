@@ -78,6 +78,17 @@ def _metered(compile_objects):
     return metered
 
 
+class Clock:
+    """Wall time since its creation less the form compiler's, for a timing that must not count
+    a compile (a stability check's first call compiles its forms)."""
+
+    def __init__(self):
+        self._start, self._compiling = perf_counter(), _total.seconds
+
+    def seconds(self) -> float:
+        return perf_counter() - self._start - (_total.seconds - self._compiling)
+
+
 def tally() -> Tally:
     """The totals so far (zero before :func:`install`)."""
     return _total

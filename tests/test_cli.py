@@ -9,7 +9,7 @@ from helpers import bcfem, refused, same_loads
 from bcfem.io import read_csv
 
 #: the time split of summary.json and --profile, in order
-PARTS = ["assembly", "discrete_terms", "factorisation", "linear_solve", "newton_other", "stability", "other"]
+PARTS = ["assembly", "discrete_terms", "factorisation", "linear_solve", "newton_other", "stability", "jit", "other"]
 
 ARGS = ["run", "blister-rigid", "--material", "gent", "--Jm", "100", "--alpha", "0.5",
         "--v-max", "6", "--cells", "60", "--degree", "2", "--quiet"]
@@ -46,6 +46,8 @@ def test_outputs_follow_the_contract(serial):
     assert summary["steps"] == len(rows) and summary["newton_iterations"] >= summary["steps"]
     split = summary["time_split_s"]
     assert list(split) == PARTS
+    assert set(summary["jit"]) == {"compiled", "compile_s", "loaded", "load_s"}
+    assert split["jit"] >= summary["jit"]["compile_s"]  # compiling and loading
     assert split["assembly"] > 0 and split["factorisation"] > 0 and split["linear_solve"] > 0
     assert split["newton_other"] > 0 and split["other"] > 0
     assert sum(split.values()) == pytest.approx(summary["wall_time_s"], rel=1e-9)
@@ -57,7 +59,8 @@ def test_profile_prints_the_time_split(tmp_path):
     assert res.returncode == 0, res.stderr
     lines = res.stdout.splitlines()
     assert lines[0].startswith("wall time") and "Newton iterations" in lines[0]
-    assert [line.split()[0] for line in lines[1:8]] == PARTS
+    assert [line.split()[0] for line in lines[1:9]] == PARTS
+    assert lines[9].startswith("forms compiled")
 
 
 def test_mpi_gives_the_serial_branch(serial, tmp_path):

@@ -138,3 +138,30 @@ def test_a_sweep_compiles_the_forms_of_one_point(tmp_path):
     compiled = sorted(p["forms_compiled"] for p in points)
     assert len(points) == 3 and all(p["status"] == "ok" for p in points)
     assert compiled[0] == compiled[1] == 0 < compiled[2]
+
+
+#: scene, the flags of both runs, the first run's values, the second's (a new value of each)
+NEW_VALUES = {
+    "crater": (["--preload", "0.1"], ["--beta", "0.5"], ["--beta", "0.61"]),
+    "blister-soft": ([], ["--stiffness-ratio", "2"], ["--stiffness-ratio", "3"]),
+    "crater-cell": (["--preload", "0.05", "--size-wall", "0.3", "--size-rim", "0.1", "--size-far", "0.8"],
+                    ["--beta", "0.5"], ["--beta", "0.61"]),
+    "droplet-soft": (["--model", "neo-hookean"], ["--gamma-l", "0.15", "--kappa", "1000"],
+                     ["--gamma-l", "0.18", "--kappa", "2000", "--gamma-s", "0.15"]),
+    "blister-3d": (["--material", "gent", "--size", "0.2", "--v-max", "1"], ["--Jm", "100", "--alpha", "0.5"],
+                   ["--Jm", "50", "--alpha", "0.6"]),
+    "crater-sector": ([], ["--beta", "0.5"], ["--beta", "0.6"]),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.serial
+@pytest.mark.parametrize("scene", sorted(NEW_VALUES))
+def test_a_new_value_of_a_scene_compiles_no_form(scene, tmp_path):
+    """The issue's check: from an empty cache, a run, then one with new values compiles nothing."""
+    env = _in_empty_cache(tmp_path)
+    flags, first, second = NEW_VALUES[scene]
+    cold = _run(["run", scene, *flags, *first], env, tmp_path / "a")
+    new = _run(["run", scene, *flags, *second], env, tmp_path / "b")
+    assert cold["jit"]["compiled"] > 0 and cold["status"] == new["status"] == "ok"
+    assert new["jit"]["compiled"] == 0, f"{scene}: a new value compiled {new['jit']['compiled']} forms"

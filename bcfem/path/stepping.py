@@ -34,6 +34,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from bcfem import jit
 from bcfem.log import progress
 from bcfem.path.relaxation import relax
 from bcfem.path.roots import bracketed_root
@@ -304,8 +305,9 @@ class LoadPath:
             self.unstable = unstable
         if self.waves is None:
             return
-        with self.problem.timed("stability"):
-            counts = self.waves()
+        clock = jit.Clock()
+        counts = self.waves()
+        self.problem.timings["stability"] += clock.seconds()
         waves = _unstable_waves(counts)
         if waves != self.unstable_waves:
             # more unstable directions with n waves than axisymmetric ones: the loss of stability

@@ -156,9 +156,9 @@ class Context:
         return float(found[0].value)
 
     @property
-    def names(self) -> set[str]:
+    def names(self) -> frozenset[str]:
         """The names :meth:`set` knows."""
-        return set(self._named) | set(self._constants)
+        return frozenset(self._named) | frozenset(self._constants)
 
     @property
     def entity_maps(self) -> list:

@@ -71,10 +71,11 @@ def slope(material, I1):
     r""":math:`\partial W/\partial I_1` of ``material`` at ``I1``, as an expression free of UFL
     variables: a variable's label is numbered anew on each use, and an interpolation expression
     (unlike a form) keeps that number in its signature, so it would compile on every build."""
-    from ufl.algorithms import apply_derivatives, strip_variables
+    from ufl.algorithms import apply_algebra_lowering, apply_derivatives, strip_variables
 
     x = ufl.variable(I1)
-    return strip_variables(apply_derivatives.apply_derivatives(ufl.diff(material.strain_energy(x), x)))
+    lowered = apply_algebra_lowering.apply_algebra_lowering(ufl.diff(material.strain_energy(x), x))
+    return strip_variables(apply_derivatives.apply_derivatives(lowered))
 
 
 @dataclass(frozen=True)

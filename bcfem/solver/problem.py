@@ -148,14 +148,13 @@ class Problem(ConvergedAlgebra):
     def timed(self, key: str):
         """Count the time of the enclosed work (assembly included, the form compiler's not) under
         ``key``."""
-        t0, compiled = perf_counter(), jit.tally().seconds
+        clock = jit.Clock()
         self._timing_outside += 1
         try:
             yield
         finally:
             self._timing_outside -= 1
-            self.timings[key] = (self.timings.get(key, 0.0) + perf_counter() - t0
-                                 - (jit.tally().seconds - compiled))
+            self.timings[key] = self.timings.get(key, 0.0) + clock.seconds()
 
     def bound_steps(self) -> None:
         """Shorten every Newton step to what the discrete terms with a ``step_bound(x, y)``
