@@ -24,14 +24,14 @@ import pytest
 import ufl
 from dolfinx import fem, mesh
 
-from bcfem import AxisymmetricMembrane, Context, Gent, MembraneStrain, NeoHookean, SurfaceTension, global_sum
+from bcfem import AxisymmetricMembrane, Context, Gent, MembraneStrain, NeoHookean, SurfaceTension, Term, global_sum
 from bcfem.physics.energies import WettedSubstrate
 
 BCFEM = [sys.executable, "-m", "bcfem"]
 
 
 @dataclass(frozen=True)
-class Spring:
+class Spring(Term):
     r"""A foundation of springs, :math:`\tfrac{k}{2}\int |u|^2\,dx`, as a research script writes it."""
 
     k: float  # [N/m^3]

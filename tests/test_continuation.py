@@ -18,7 +18,7 @@ import pytest
 import ufl
 from dolfinx import fem, mesh
 
-from bcfem import ArcLength, Context, ContinuationParams, Problem, Switch, global_sum, real_value
+from bcfem import ArcLength, Context, ContinuationParams, Problem, Switch, Term, global_sum, real_value
 from bcfem.kinematics.solid import AxisymmetricSolid
 
 PARAMS = ContinuationParams(ds=0.05, ds_max=0.2, event_tol=1e-11)
@@ -35,7 +35,7 @@ _prefixes = itertools.count()
 
 
 @dataclass(frozen=True)
-class Energy:
+class Energy(Term):
     """A toy energy term: ``density(ctx)`` per unit length of the unit interval."""
 
     density: Callable
@@ -267,7 +267,7 @@ def test_switch_is_located_and_the_path_goes_on_with_the_new_model():
 
 # -- the solid's default norm ---------------------------------------------------------------
 @dataclass(frozen=True)
-class Tether:
+class Tether(Term):
     """(1/2) int |u - lambda e_z|^2 dV: the body follows the rigid lift lambda e_z."""
 
     def energy(self, ctx):

@@ -35,7 +35,7 @@ import ufl
 from dolfinx import default_scalar_type, fem, graph, mesh
 
 import bcfem  # noqa: F401  (first: MPI before dolfinx, when run as a script)
-from bcfem import Context, global_sum, real_value
+from bcfem import Context, Term, global_sum, real_value
 from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.kinematics.submesh import BoundaryPatch
 from bcfem.solver.problem import Problem
@@ -112,7 +112,7 @@ class PatchLift:
         return [contact, axis]
 
 
-class ParentLift:
+class ParentLift(Term):
     """w as a P2 field on the whole substrate, every dof off the closure of Γ held at 0:
     the same discrete space on Γ, assembled without a submesh."""
 
@@ -156,7 +156,7 @@ def meridian(ctx, lift, tag):
 
 
 @dataclass(frozen=True)
-class Substrate:
+class Substrate(Term):
     r"""Compressible neo-Hookean bulk, :math:`W = \tfrac{\mu}{2}(I_1-3) - \mu\ln J + \tfrac{\lambda}{2}(\ln J)^2`."""
 
     mu: float = 1.0
@@ -169,7 +169,7 @@ class Substrate:
 
 
 @dataclass(frozen=True)
-class Membrane:
+class Membrane(Term):
     """Neo-Hookean membrane (stiffness C = mu_f t0) with surface tension gamma on the
     whole top: lifted on Γ, bonded beyond."""
 
@@ -198,7 +198,7 @@ def volume_density(ctx, lift):
 
 
 @dataclass(frozen=True)
-class LiquidVolume:
+class LiquidVolume(Term):
     r""":math:`-p\,(V - \hat V)`, p the real-space state ``liquid_pressure``."""
 
     lift: object = field(compare=False)

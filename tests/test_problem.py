@@ -15,14 +15,14 @@ import ufl
 from dolfinx import fem, mesh
 from dolfinx.fem.petsc import NonlinearProblem
 
-from bcfem import Context
+from bcfem import Context, Term
 from bcfem.physics.protocols import DiscreteTerm
 from bcfem.solver.problem import Problem
 
 pytestmark = pytest.mark.mpi
 
 
-class Arctan:
+class Arctan(Term):
     def energy(self, ctx):
         x = ctx.real_state("x")
         return (x * ufl.atan(x) - 0.5 * ufl.ln(1 + x**2) + 0.5 * ctx.u**2) * ufl.dx
@@ -59,7 +59,7 @@ def test_the_users_line_search_wins():
     assert not ok and x == 2.0
 
 
-class Obstacle:
+class Obstacle(Term):
     """(u - (x - 1/2))^2/2 + u^4/2 over u >= 0: u = 0 on x < 1/2, positive beyond. Vertex
     quadrature decouples the nodes, so the discrete solution is the pointwise one."""
 
@@ -126,7 +126,7 @@ def test_a_vi_convergence_in_zero_iterations_off_equilibrium_is_an_error():
         solve_obstacle("vinewtonssls")
 
 
-class Saddle:
+class Saddle(Term):
     """(w u^2/2 - u) with w = +1 on x < 1/2 and -1 beyond, on two DG0 cells: an indefinite
     tangent. From u = 0 the Newton step Y has dot(F, Y) = 0 exactly although F != 0, which
     PETSc's cp line search takes for a critical point and reports as CONVERGED_FNORM_ABS."""
@@ -233,7 +233,7 @@ def test_a_residual_grown_past_the_divergence_tolerance_stops_the_solve(divtol):
             assert np.isnan(f.norm()) == grown
 
 
-class Anharmonic:
+class Anharmonic(Term):
     """|u'|^2/2 + k u^4/4 - u (k a run-time constant, 1): a nonlinear bar, held at x = 0 by a
     Dirichlet condition."""
 
@@ -319,3 +319,18 @@ def test_a_changed_constant_makes_the_tangent_anew():
         assert again.equal(second) and not second.equal(first)
         for A in (first, second):
             A.destroy()
+
+
+def test_a_term_has_a_default_name_and_no_multipliers_and_a_stranger_is_refused():
+    """The term contract is a type: a Term's defaults, and an object that is no Term refused at
+    once with the fix, not found out by a probe deep in the solver."""
+    assert Arctan().name == "Arctan" and Arctan().multipliers == ()
+
+    class Stranger:
+        def energy(self, ctx):
+            return 0.5 * ctx.u**2 * ufl.dx
+
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 4)
+    ctx = Context(fem.Function(fem.functionspace(msh, ("Lagrange", 1))))
+    with pytest.raises(TypeError, match="Stranger is not an energy term: inherit bcfem.Term"):
+        Problem(ctx, [Stranger()], [], "bcfem_test_stranger_")

@@ -10,6 +10,7 @@ import ufl
 from dolfinx import fem, mesh
 from helpers import exact_nominal_stress
 
+from bcfem import Term
 from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.mpi import global_sum
 from bcfem.physics.bcs import component, where
@@ -130,7 +131,7 @@ def inflate_shell(h: float, comm=MPI.COMM_WORLD) -> tuple[float, float]:
     cavity = Cavity(INNER)
     pressure = ctx.constant("shell_pressure", 0.0)
 
-    class InnerPressure:  # a research script's own term: the work of a given pressure
+    class InnerPressure(Term):  # a research script's own term: the work of a given pressure
         def energy(self, ctx):
             return -pressure * cavity.volume(ctx.kin)
 

@@ -8,6 +8,7 @@ from mpi4py import MPI
 
 import pytest
 
+from bcfem import Term
 from bcfem.path.volume_control import VolumeControl
 from bcfem.physics.energies import MembraneStrain
 from bcfem.physics.protocols import find_term
@@ -19,7 +20,7 @@ pytestmark = pytest.mark.mpi
 FOLD = 0.667656  # V/V0 of the neo-Hookean pressure maximum (tests/test_blister_rigid.py, P2/200)
 
 
-class DeadPressure:
+class DeadPressure(Term):
     """-P V with P a fixed number: pressure control."""
 
     def __init__(self, pressure):

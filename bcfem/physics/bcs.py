@@ -12,6 +12,7 @@ import ufl
 from dolfinx import fem, mesh
 
 from bcfem.physics.context import Context
+from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
     from bcfem.kinematics.submesh import BoundaryPatch
@@ -34,7 +35,7 @@ def where(V: fem.FunctionSpace, marker) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class MirrorPlane:
+class MirrorPlane(Term):
     r"""The displacement held in a mirror plane through the z axis at the angle ``angle``:
     :math:`\int_\Gamma \lambda\, u\cdot n\, dA`, n = (-sin, cos, 0), with the multiplier field
     :math:`\lambda` (P2 on the face's submesh, the trace space of u.n, so that the constraint is

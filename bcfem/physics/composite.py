@@ -26,7 +26,7 @@ class SurfaceContext:
 
 
 @dataclass(frozen=True)
-class OnSurface:
+class OnSurface(Term):
     r"""The energy of a membrane term evaluated on a surface: ``term.energy`` with ``ctx.kin``
     replaced by ``surface`` (a :class:`MembraneSurface` or :class:`LiquidGap`).
 
@@ -52,14 +52,14 @@ class OnSurface:
 
     @property
     def multipliers(self) -> tuple[str, ...]:
-        return tuple(getattr(self.term, "multipliers", ()))
+        return tuple(self.term.multipliers)
 
     def energy(self, ctx: Context) -> ufl.Form:
         return self.term.energy(cast("Context", SurfaceContext(ctx, self.surface)))
 
 
 @dataclass(frozen=True)
-class Scaled:
+class Scaled(Term):
     r"""A term's energy times a run-time constant, :math:`k\,\Pi_{term}` (e.g. a substrate's
     modulus :math:`k = \mu_s R_0/(\mu_f t_0)`, lowered during a run from a stiff start).
 
@@ -79,7 +79,7 @@ class Scaled:
 
     @property
     def multipliers(self) -> tuple[str, ...]:
-        return tuple(getattr(self.term, "multipliers", ()))
+        return tuple(self.term.multipliers)
 
     def energy(self, ctx: Context) -> ufl.Form:
         k = ctx.parameters(self, {"value": self.constant}).value

@@ -20,6 +20,7 @@ import ufl
 
 from bcfem.params import require
 from bcfem.physics.materials import slope
+from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
     from bcfem.physics.context import Context
@@ -27,7 +28,7 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True)
-class MembraneStrain:
+class MembraneStrain(Term):
     r"""Strain energy of a thin incompressible membrane, :math:`U_f = \int t_0 W(I_1)\, dA` (eq. 3.25).
 
     Attributes:
@@ -62,7 +63,7 @@ class MembraneStrain:
 
 
 @dataclass(frozen=True)
-class SurfaceTension:
+class SurfaceTension(Term):
     r"""Interface energy in the current configuration, :math:`\gamma A = \int \gamma\,\lambda_r\lambda_\theta\, dA`.
 
     The tension is isotropic and independent of strain (a liquid/solid
@@ -95,7 +96,7 @@ class SurfaceTension:
 
 
 @dataclass(frozen=True)
-class PressureVolume:
+class PressureVolume(Term):
     r"""Pressure work with the pressure as a global unknown: :math:`-p\,(V(u) - \hat V)`.
 
     ``p`` is the real-space state ``pressure`` (pressure difference Δp [Pa]).
@@ -123,7 +124,7 @@ class PressureVolume:
 
 
 @dataclass(frozen=True)
-class WettedSubstrate:
+class WettedSubstrate(Term):
     r"""Interface energy change where the liquid wets the substrate, :math:`\gamma\,\pi r_0^2`.
 
     :math:`\pi r_0^2` is the projected area inside the current edge radius
@@ -163,7 +164,7 @@ class WettedSubstrate:
 
 
 @dataclass(frozen=True)
-class SolidStrain:
+class SolidStrain(Term):
     r"""Strain energy of a (nearly) incompressible solid with a mixed pressure,
     :math:`\int W(F, p)\, dV` (Taylor-Hood: P2 displacement, P1 pressure).
 
@@ -189,7 +190,7 @@ class SolidStrain:
 
 
 @dataclass(frozen=True)
-class SolidSurfaceEnergy:
+class SolidSurfaceEnergy(Term):
     r"""Surface energy of part of a solid's boundary in the current configuration,
     :math:`\gamma \int \lambda_s\lambda_\theta\, dA` (isotropic, strain-independent).
 

@@ -27,6 +27,7 @@ import ufl
 from dolfinx import fem
 
 from bcfem.mpi import global_sum
+from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
     from bcfem.physics.context import Context
@@ -42,7 +43,7 @@ def over_body(ctx: Context, value) -> ufl.Form:
 
 
 @dataclass(frozen=True)
-class SealedFluid:
+class SealedFluid(Term):
     """A fluid sealed at p = 1 in volume ``sealed_volume``.
 
     Its pressure is a multiplier (:class:`bcfem.physics.protocols.Term`): the row in p is
@@ -97,7 +98,7 @@ class IncompressibleLiquid(SealedFluid):
 
 
 @dataclass(frozen=True)
-class HeldPressure:
+class HeldPressure(Term):
     """A cavity at the pressure ``pressure`` (over p_a) whatever its volume: a liquid that has
     cavitated, its vapour at the vapour pressure. No unknown: the volume is free."""
 
@@ -117,7 +118,7 @@ class HeldPressure:
 
 
 @dataclass(frozen=True)
-class Vacuum:
+class Vacuum(Term):
     """An empty cavity: p = 0 inside, the ambient pressure's work s·V (s = ``vacuum_load``)."""
 
     cavity: Enclosure

@@ -21,6 +21,7 @@ import ufl
 
 from bcfem.kinematics.solid import AxisymmetricSolid
 from bcfem.params import require
+from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
     from bcfem.physics.context import Context
@@ -48,7 +49,7 @@ class SubstrateKinematics(AxisymmetricSolid):
 
 
 @dataclass(frozen=True)
-class LinearElasticity:
+class LinearElasticity(Term):
     r"""Isotropic small-strain elasticity with a mixed pressure:
 
     .. math:: W = \mu\,\mathrm{dev}\,\varepsilon : \mathrm{dev}\,\varepsilon + p\,\mathrm{tr}\,\varepsilon
@@ -90,7 +91,7 @@ class LinearElasticity:
 
 
 @dataclass(frozen=True)
-class LinearSurfaceTension:
+class LinearSurfaceTension(Term):
     r"""The solid surface tension of a flat surface to second order in the deflection,
     :math:`\tfrac{\gamma}{2}\int (\partial_R u_z)^2\,dA` (eqs. 5.25-5.26): its variation is the
     normal load γ∇²u_z. The first-order area change γ∫∇_s·u_t dA is a boundary term, left to
@@ -118,7 +119,7 @@ class LinearSurfaceTension:
 
 
 @dataclass(frozen=True)
-class LinearDropLoads:
+class LinearDropLoads(Term):
     r"""The drop's loads on a flat substrate, fixed in the reference configuration:
 
     .. math:: \Pi = -\gamma_l\sin\theta\,2\pi R_0 u_z(R_0) + \Delta p\int_{R<R_0} u_z\,dA

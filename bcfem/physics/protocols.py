@@ -80,31 +80,32 @@ class ProblemView(Protocol):
         ...
 
 
-@runtime_checkable
-class Term(Protocol):
+class Term:
     r"""A physical effect as an energy: the problem's residual and tangent are its
-    derivatives (never written by hand)."""
+    derivatives (never written by hand). Every energy term inherits this base, usually
+    as a frozen dataclass, and overrides :meth:`energy`; the problem refuses an object
+    that is neither a :class:`Term` nor a :class:`DiscreteTerm`.
+
+    Attributes:
+        name: identifies the term in messages and look-ups. A term with a run-time
+            constant is named after it, so that two terms of one class (a wetted blister
+            and a wetted film) are told apart. Default: the class's name.
+        multipliers: names of the states the term creates that are Lagrange multipliers
+            (default none): unknowns whose row is a constraint or an equation of state,
+            such as a mixed solid pressure or a sealed fluid's pressure. Each multiplier
+            dof adds one negative eigenvalue to the Hessian of the Lagrangian whatever the
+            stability of the body, so :func:`bcfem.stability.inertia.unstable_modes`
+            subtracts them (Sylvester's law). A state that is a real unknown of the energy
+            (a debond radius) is none, and a problem that replaces a multiplier's row (an
+            arc-length load) no longer counts it (``Problem.multipliers``).
+    """
 
     @property
     def name(self) -> str:
-        """Identifies the term in messages and look-ups. A term with a run-time
-        constant is named after it, so that two terms of one class (a wetted blister
-        and a wetted film) are told apart."""
-        ...
+        return type(self).__name__
 
     @property
     def multipliers(self) -> tuple[str, ...]:
-        """Names of the states the term creates that are Lagrange multipliers (default
-        none): unknowns whose row is a constraint or an equation of state, such as a
-        mixed solid pressure or a sealed fluid's pressure.
-
-        Each multiplier dof adds one negative eigenvalue to the Hessian of the
-        Lagrangian whatever the stability of the body, so
-        :func:`bcfem.stability.inertia.unstable_modes` subtracts them (Sylvester's law).
-        A state that is a real unknown of the energy (a debond radius) is none, and a
-        problem that replaces a multiplier's row (an arc-length load) no longer counts it
-        (``Problem.multipliers``).
-        """
         return ()
 
     def energy(self, ctx: Context) -> ufl.Form:
@@ -116,7 +117,7 @@ class Term(Protocol):
         more than once, also with another context (a Fourier mode's,
         :mod:`bcfem.stability.modes`).
         """
-        ...
+        raise NotImplementedError(f"{type(self).__name__} defines no energy")
 
 
 class DiscreteTerm:

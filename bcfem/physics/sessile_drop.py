@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING
 import ufl
 
 from bcfem.params import require
+from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
     from bcfem.physics.context import Context
@@ -41,7 +42,7 @@ def cap_volume(radius: float, theta: float) -> float:
 
 
 @dataclass(frozen=True)
-class SphericalCapDrop:
+class SphericalCapDrop(Term):
     r"""The drop's liquid-vapour energy and its volume constraint (see the module).
 
     Adds the states ``cap_slope`` (t = tan(θ/2), start it at the rest angle) and

@@ -15,12 +15,13 @@ import ufl
 from dolfinx import fem
 
 from bcfem.mpi import global_sum
+from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
     from bcfem.physics.context import Context
 
 
-class Viscosity:
+class Viscosity(Term):
     """The proximal term (c/2) ∫ |u - u_prev|² dV; c = 0 (off) unless relaxing.
 
     The viscosity c is the run-time constant ``viscosity``; no states are added."""

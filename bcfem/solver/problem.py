@@ -19,7 +19,7 @@ from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assign
 
 from bcfem import interrupt, jit
-from bcfem.physics.protocols import DiscreteTerm
+from bcfem.physics.protocols import DiscreteTerm, Term
 from bcfem.solver import fieldsplit, options, petsc_events
 from bcfem.solver.algebra import ConvergedAlgebra
 from bcfem.solver.assembly import Assembly
@@ -60,7 +60,7 @@ class Problem(ConvergedAlgebra):
                  rows: dict | None = None, jit_options: dict | None = None, energy_scale: float = 1.0,
                  line_search_fallbacks: tuple[str, ...] = ()):
         self.ctx = ctx
-        self.terms = list(terms)
+        self.terms = checked_terms(terms)
         self.discrete = [t for t in self.terms if isinstance(t, DiscreteTerm)]
         self.lagrangian = sum(t.energy(ctx) for t in self.terms if not isinstance(t, DiscreteTerm))
         rows = rows or {}
@@ -389,10 +389,25 @@ class Problem(ConvergedAlgebra):
         self.close()
 
 
+def checked_terms(terms) -> list:
+    """``terms`` as a list, each a :class:`~bcfem.physics.protocols.Term` or a
+    :class:`~bcfem.physics.protocols.DiscreteTerm`.
+
+    Raises:
+        TypeError: naming the first that is neither, and the fix.
+    """
+    terms = list(terms)
+    for term in terms:
+        if not isinstance(term, (Term, DiscreteTerm)):
+            raise TypeError(f"{type(term).__name__} is not an energy term: inherit bcfem.Term (its energy(ctx), "
+                            "name and multipliers) or bcfem.DiscreteTerm")
+    return terms
+
+
 def declared_multipliers(terms, names: list[str], rows: dict) -> tuple[str, ...]:
-    """The multiplier states the terms declare (``multipliers``, none if absent), in the
-    order of ``names``; each must be a state."""
-    declared = {n for t in terms for n in getattr(t, "multipliers", ())}
+    """The multiplier states the terms declare (``multipliers``), in the order of ``names``;
+    each must be a state."""
+    declared = {n for t in terms for n in t.multipliers}
     missing = declared.difference(names)
     if missing:
         raise ValueError(f"terms declare the multipliers {sorted(missing)}, which no term's energy created")

@@ -178,7 +178,7 @@ class ModeAnalysis:
         states = list(mctx.states.values())
         # the multipliers of the mode: the perturbations of the field multipliers the terms
         # declare (a mixed pressure) and the translation's; global ones do not couple to n >= 1
-        declared = {n for t in self.terms for n in getattr(t, "multipliers", ())} | {"translation"}
+        declared = {n for t in self.terms for n in t.multipliers} | {"translation"}
         multipliers = global_dofs(s for n, s in mctx.states.items() if n in declared)
         blocks = []
         for si in states:

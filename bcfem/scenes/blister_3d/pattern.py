@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bcfem.physics.protocols import Term
 from bcfem.radial_profile import RadialProfile, read_rows
 from bcfem.radial_profile import parse as parse_profile
 
@@ -165,7 +166,7 @@ def at(value, points: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class PatternedWetting:
+class PatternedWetting(Term):
     r"""The wetted substrate's energy with a patterned adhesion,
     :math:`\int_\Omega \gamma_{ls} - \Delta\gamma(X)\, dA`, over the debonded region Ω of
     the reference plane (the mesh, which grows with the front). The film is clamped, unmoved,
@@ -194,7 +195,7 @@ class PatternedWetting:
 
 
 @dataclass
-class MappedWetting:
+class MappedWetting(Term):
     r""":class:`PatternedWetting` for a :class:`Map`, which UFL cannot evaluate at a point:
     Δγ is its interpolant Δγ_h on the current mesh, and the energy
 

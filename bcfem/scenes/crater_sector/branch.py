@@ -30,6 +30,7 @@ from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
 from bcfem.physics.cavity import Cavity
 from bcfem.physics.fluids import over_body
+from bcfem.physics.protocols import Term
 from bcfem.scenes.crater_sector.model import wall_content
 
 
@@ -98,7 +99,7 @@ def critical_mode(problem, model, waves, iterations: int = 60, rtol: float = 1e-
 
 
 @dataclass(frozen=True)
-class DrawnLiquid:
+class DrawnLiquid(Term):
     r"""A liquid of which the fraction r is drawn off, r an unknown (the path's load once the
     wave's amplitude drives it): :math:`-(p - 1)(V(u) - (1 - r) V_0)`, stationary in p: V = (1 - r) V0."""
 
@@ -120,7 +121,7 @@ class DrawnLiquid:
 
 
 @dataclass(frozen=True)
-class WaveAmplitude:
+class WaveAmplitude(Term):
     r"""The wall's cos n theta content held at the run-time constant ``wave_amplitude`` xi by the
     force mu: :math:`\mu\,(c_n(u) - \xi)`, c_n as :meth:`Sector.wall_fourier`'s."""
 
