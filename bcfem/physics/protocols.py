@@ -98,6 +98,9 @@ class Term:
             subtracts them (Sylvester's law). A state that is a real unknown of the energy
             (a debond radius) is none, and a problem that replaces a multiplier's row (an
             arc-length load) no longer counts it (``Problem.multipliers``).
+        stages: the stages of a scene whose energy the term belongs to, when a research
+            script adds it to a scene (``build(..., extra_terms=[...])``); default None: every
+            stage.
     """
 
     @property
@@ -107,6 +110,14 @@ class Term:
     @property
     def multipliers(self) -> tuple[str, ...]:
         return ()
+
+    @property
+    def stages(self) -> tuple[str, ...] | None:
+        return None
+
+    def belongs_to(self, stage: str) -> bool:
+        """Whether the term is part of the energy of the scene's stage ``stage``."""
+        return self.stages is None or stage in self.stages
 
     def energy(self, ctx: Context) -> ufl.Form:
         """The term's energy as one scalar UFL form in the reference configuration.

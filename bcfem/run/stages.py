@@ -48,9 +48,11 @@ class StagedScene(Scene):
     """A scene whose solve is its stages in order. A subclass sets ``name``, ``columns``,
     ``stages`` (the names it plans) and ``params``, builds its model in :meth:`setup` and returns its stages
     from :meth:`plan`; ``model.ctx``, ``model.bcs`` and :attr:`problem_options` are shared by
-    every stage."""
+    every stage. :attr:`extra_terms` (a research script's) join the terms of every stage they
+    belong to (:meth:`bcfem.physics.protocols.Term.belongs_to`)."""
 
     model: Any = None
+    extra_terms: tuple = ()
 
     @property
     def problem_options(self) -> dict:
@@ -81,8 +83,8 @@ class StagedScene(Scene):
             while again:
                 options = {**self.problem_options}
                 petsc = {**options.pop("petsc_options", {}), **stage.petsc_options}
-                with run.stage(stage.name, self.model.ctx, stage.terms(), self.model.bcs, petsc,
-                               **options) as problem:
+                terms = [*stage.terms(), *(t for t in self.extra_terms if t.belongs_to(stage.name))]
+                with run.stage(stage.name, self.model.ctx, terms, self.model.bcs, petsc, **options) as problem:
                     if stage.prepare is not None:
                         stage.prepare(problem)
                     again = bool(stage.drive(problem, run))

@@ -31,7 +31,6 @@ from bcfem.path.continuation import Switch
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
-from bcfem.physics.protocols import find_term
 from bcfem.radial_profile import RadialProfile, check_resolved, shape_of
 from bcfem.radial_profile import parse as parse_profile
 from bcfem.run.scene import BranchScene
@@ -247,7 +246,7 @@ def scene_for(model: Model, params: Params) -> BranchScene:
                  summarize=summarize, params=params, columns=COLUMNS)
 
 
-def build(params: Params, comm, extra_terms=()) -> BranchScene:
+def build(params: Params, comm, *, extra_terms=()) -> BranchScene:
     """The blister of ``params``: :func:`compose` (see its arguments), then :func:`scene_for`."""
     return scene_for(compose(params, comm, extra_terms), params)
 
@@ -297,6 +296,15 @@ def guard_for(params: Params):
     return guard
 
 
+def membrane_tractions(ctx, terms):
+    """(N_r, N_theta) of every membrane strain term among ``terms``, summed (a research script's
+    second strain energy adds its tractions)."""
+    pairs = [t.tractions(ctx) for t in terms if isinstance(t, MembraneStrain)]
+    if not pairs:
+        raise LookupError("the blister's terms hold no MembraneStrain")
+    return sum(p[0] for p in pairs), sum(p[1] for p in pairs)
+
+
 def observables(ctx, terms):
     """Compile the observables once; returns a collective callable."""
     kin, u = ctx.kin, ctx.u
@@ -315,7 +323,7 @@ def observables(ctx, terms):
         release = fem.form(ufl.derivative(sum(t.energy(ctx) for t in terms), R1, one))
     degree = ctx.u.function_space.element.basix_element.degree
     I1 = cell_maximum(ctx.mesh, kin.I1 - 3, degree)
-    _, hoop = find_term(terms, MembraneStrain).tractions(ctx)
+    _, hoop = membrane_tractions(ctx, terms)
     hoop_compression = cell_maximum(ctx.mesh, -hoop, degree)
 
     def observe() -> dict:
@@ -386,7 +394,7 @@ def profile(scene, samples: int = 201) -> dict:
     """
     ctx = scene.ctx
     kin = ctx.kin
-    N_r, N_t = find_term(scene.terms, MembraneStrain).tractions(ctx)
+    N_r, N_t = membrane_tractions(ctx, scene.terms)
     degree = ctx.u.function_space.element.basix_element.degree
     W = fem.functionspace(ctx.mesh, ("DG", degree, (5,)))
     fields = fem.Function(W)

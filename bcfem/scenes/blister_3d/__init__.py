@@ -10,8 +10,9 @@ from __future__ import annotations
 from bcfem.scenes.blister_3d.params import COLUMNS, DESCRIPTION, SUMMARY, Params
 
 
-def build(params: Params, comm, extra_terms=()):
-    """The blister of ``params``, for :mod:`bcfem.run.runner`."""
+def build(params: Params, comm, *, extra_terms=()):
+    """The blister of ``params``, for :mod:`bcfem.run.runner`. ``extra_terms``: a research
+    script's terms, added to its energy."""
     from bcfem.scenes.blister_3d.model import build as compose
 
     return compose(params, comm, extra_terms)

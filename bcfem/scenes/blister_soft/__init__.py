@@ -11,8 +11,9 @@ from bcfem.scenes.blister_soft.params import COLUMNS, DESCRIPTION, EDGES, HELP, 
 __all__ = ["COLUMNS", "DESCRIPTION", "EDGES", "HELP", "SUMMARY", "Params", "build"]
 
 
-def build(params: Params, comm, data=None):
-    """The scene (meshed here), for :mod:`bcfem.run.runner`."""
+def build(params: Params, comm, *, extra_terms=(), data=None):
+    """The scene (meshed here), for :mod:`bcfem.run.runner`. ``extra_terms``: a research script's
+    terms, added to its energy; ``data``: a distributed substrate mesh to reuse."""
     from bcfem.scenes.blister_soft.model import build as build_model
 
-    return build_model(params, comm, data)
+    return build_model(params, comm, data, extra_terms)

@@ -75,7 +75,7 @@ LIFT = ("Lagrange", 2, (2,))
 class Model:
     """The composed model: the mesh and its patch, the states, the surfaces and the terms."""
 
-    def __init__(self, params: Params, comm, data=None):
+    def __init__(self, params: Params, comm, data=None, extra_terms=()):
         self.params = params
         g = params.geometry()
         self.geometry = g
@@ -120,6 +120,7 @@ class Model:
         self.energy_offset = params.gamma_ls + (dgamma.area_integral(1.0, L) if isinstance(dgamma, RadialProfile)
                                                 else dgamma * (L**2 - 1))
         self.bcs = self._bcs(V, facets)
+        self.terms.extend(extra_terms)
         for term in self.terms:  # create every state now (the pressures)
             term.energy(self.ctx)
 
@@ -275,9 +276,10 @@ def observables(model: Model):
     return observe
 
 
-def build(params: Params, comm, data=None) -> BranchScene:
-    """Compose the blister on a soft substrate (``data``: a distributed substrate mesh to reuse)."""
-    model = Model(params, comm, data)
+def build(params: Params, comm, data=None, extra_terms=()) -> BranchScene:
+    """Compose the blister on a soft substrate (``data``: a distributed substrate mesh to reuse;
+    ``extra_terms``: a research script's terms, added to its energy)."""
+    model = Model(params, comm, data, extra_terms)
     observe_all = observables(model)
 
     def observe():

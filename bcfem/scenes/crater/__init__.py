@@ -33,21 +33,25 @@ def __getattr__(name: str):
     raise AttributeError(f"module 'bcfem.scenes.crater' has no attribute {name!r}")
 
 
-def build(params: Params, comm, model_class=None):
-    """The crater scene (meshed when solved), for :mod:`bcfem.run.runner`."""
+def build(params: Params, comm, *, extra_terms=(), model_class=None):
+    """The crater scene (meshed when solved), for :mod:`bcfem.run.runner`. ``extra_terms``: a
+    research script's terms, added to every stage they belong to; ``model_class``: a subclass of
+    :class:`~bcfem.scenes.crater.model.Crater` (another geometry)."""
     if params.path == "fundamental":
         from bcfem.scenes.crater.fundamental import FundamentalCycle as Cycle
     else:
         from bcfem.scenes.crater.stages import CraterCycle as Cycle
-    return Cycle(params, comm, *(model_class,) if model_class else ())
+    scene = Cycle(params, comm, *(model_class,) if model_class else ())
+    scene.extra_terms = tuple(extra_terms)
+    return scene
 
 
-def solve(params: Params, comm, model_class=None) -> tuple[list[dict], dict]:
+def solve(params: Params, comm, model_class=None, *, extra_terms=()) -> tuple[list[dict], dict]:
     """One cycle in memory: (rows, summary). Raises :class:`bcfem.run.runner.SolveError` if it
     cannot be completed (the error's ``run`` holds the converged part)."""
     from bcfem.run.runner import solve_rows
 
-    return solve_rows(build(params, comm, model_class), comm)
+    return solve_rows(build(params, comm, extra_terms=extra_terms, model_class=model_class), comm)
 
 
 def sweep_point(params: Params, comm) -> dict:

@@ -91,13 +91,12 @@ class FundamentalCycle(StagedScene):
 
     def _terms(self, *fluids) -> list:
         """The model's terms without the viscous one: the branch is followed, not relaxed."""
-        self.terms = [t for t in self.model.terms(*fluids) if t is not self.model.viscosity]
-        return self.terms
+        return [t for t in self.model.terms(*fluids) if t is not self.model.viscosity]
 
     def _load(self, problem, run) -> None:
         params = self.params
         end_strain = MAX_CLOSURE_PRELOAD if params.preload == PRELOAD_TO_CLOSURE else params.preload
-        self._trace(run, self.arc, problem, "load", self.terms, None, self.events, self.folds,
+        self._trace(run, self.arc, problem, "load", None, self.events, self.folds,
                     end=lambda v: max(v["eps"] - end_strain, closure(v)), direction=-1)
         self.load_end = run.rows[-1]
 
@@ -124,7 +123,7 @@ class FundamentalCycle(StagedScene):
                                load_name="vacuum_ramp")
             sealing.start()
             sealing.advance(0.0, 1.0, 0.25)
-        self._trace(run, self.arc, problem, "unload", self.terms, self.sealing.sealed_volume, self.events,
+        self._trace(run, self.arc, problem, "unload", self.sealing.sealed_volume, self.events,
                     self.folds, end=lambda v: v["platen_force"], direction=1)
         self.final = run.rows.pop()
 
@@ -136,7 +135,7 @@ class FundamentalCycle(StagedScene):
         if not self.sealing.stays_closed:
             run.results["eps_m"] = self.preload if self.params.preload == PRELOAD_TO_CLOSURE and self.closes else None
 
-    def _trace(self, run, arc, problem, stage: str, terms, V1, events, folds, end, direction: int) -> None:
+    def _trace(self, run, arc, problem, stage: str, V1, events, folds, end, direction: int) -> None:
         """Follow the branch from the current state (its platen held) until ``end`` turns >= 0,
         recording every accepted point in ``run`` with its unstable modes."""
         model, H = self.model, self.params.specimen_height
@@ -154,7 +153,7 @@ class FundamentalCycle(StagedScene):
             return {**model.observe(stage, eps, V1), "platen_force": global_sum(force) / A0}
 
         stability = LoadPath(problem, model.set_platen, stage, events=events, held=(PARAMETER,), load_name="eps",
-                             waves=model.wave_check(problem, terms))
+                             waves=model.wave_check(problem, problem.terms))
         stability.start()
 
         def accept(values: dict) -> None:

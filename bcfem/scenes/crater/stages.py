@@ -128,16 +128,16 @@ class CraterCycle(StagedScene):
         if self.careful:
             problem.bound_steps()
 
-    def _path(self, problem, stage: str, terms) -> LoadPath:
+    def _path(self, problem, stage: str) -> LoadPath:
         beta, a = self.params.beta, self.params.crater_radius
         return LoadPath(problem, self.model.set_platen, stage, self.model.viscosity, beta / a**2,
                         events=self.events, max_snaps=self.params.max_snaps,
-                        waves=self.model.wave_check(problem, terms), load_name="eps")
+                        waves=self.model.wave_check(problem, problem.terms), load_name="eps")
 
     def _load(self, problem, run) -> None:
         params, model = self.params, self.model
         with model.measuring(problem):
-            path = self.path = self._path(problem, "load", model.terms())
+            path = self.path = self._path(problem, "load")
             run.record(model.observe("load", 0.0))
             path.start()
             if params.preload == PRELOAD_TO_CLOSURE:
@@ -171,15 +171,14 @@ class CraterCycle(StagedScene):
         params, model = self.params, self.model
         fluid = Vacuum(model.cavity) if self.sealing.closed else liquid_or_vapour(
             FLUIDS[params.fluid], model.cavity, self.V1, "fluid_pressure", self.vapour, params.cavitation)
-        self.terms = model.terms(fluid)
-        return self.terms
+        return model.terms(fluid)
 
     def _unload_stage(self, problem, run) -> bool:
         """Retract to zero platen force (and on, with --retract); True where the liquid changed
         phase first: the stage is entered again from there with the new phase's term."""
         params, model, V1_sealed = self.params, self.model, self.sealing.sealed_volume
         with model.measuring(problem) as platen_force:
-            path = self.path = self._path(problem, "unload", self.terms)
+            path = self.path = self._path(problem, "unload")
             if self.start != self.preload:  # the state at the phase change, with the new phase's term
                 if not path.solve_at(self.start, fallbacks=True):
                     raise SteppingError(f"unload: no equilibrium after the {self.phase_changes[-1]['kind']} at "

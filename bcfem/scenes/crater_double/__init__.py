@@ -12,21 +12,24 @@ from __future__ import annotations
 from bcfem.scenes.crater_double.params import COLUMNS, DESCRIPTION, SUMMARY, Params
 
 
-def build(params: Params, comm, model_class=None):
-    """The double-crater scene (meshed when solved), for :mod:`bcfem.run.runner`."""
+def build(params: Params, comm, *, extra_terms=(), model_class=None):
+    """The double-crater scene (meshed when solved), for :mod:`bcfem.run.runner`. ``extra_terms``:
+    a research script's terms, added to every stage they belong to."""
     from bcfem.scenes.crater_double.membrane import MembraneCycle
     from bcfem.scenes.crater_double.stages import DoubleCraterCycle
 
     cycle = MembraneCycle if params.chambers == "membrane" else DoubleCraterCycle
-    return cycle(params, comm, *(model_class,) if model_class else ())
+    scene = cycle(params, comm, *(model_class,) if model_class else ())
+    scene.extra_terms = tuple(extra_terms)
+    return scene
 
 
-def solve(params: Params, comm, model_class=None) -> tuple[list[dict], dict]:
+def solve(params: Params, comm, model_class=None, *, extra_terms=()) -> tuple[list[dict], dict]:
     """One cycle in memory: (rows, summary); raises :class:`bcfem.run.runner.SolveError` if it
     cannot be completed (the error's ``run`` holds the converged part)."""
     from bcfem.run.runner import solve_rows
 
-    return solve_rows(build(params, comm, model_class), comm)
+    return solve_rows(build(params, comm, extra_terms=extra_terms, model_class=model_class), comm)
 
 
 def sweep_point(params: Params, comm) -> dict:

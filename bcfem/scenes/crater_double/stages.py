@@ -216,8 +216,7 @@ class DoubleCraterCycle(StagedScene):
             self._seal()
 
     def _terms(self) -> list:
-        self._terms_now = self.model.terms(*self._fluids(), *self._more_terms())
-        return self._terms_now
+        return self.model.terms(*self._fluids(), *self._more_terms())
 
     def finish(self, run) -> None:
         if not self.unloads:
@@ -246,7 +245,7 @@ class DoubleCraterCycle(StagedScene):
         path = LoadPath(problem, self._set_platen, stage, model.viscosity,
                         params.beta / model.geometry.r0**2, events=self.events,
                         max_snaps=params.max_snaps, load_name="eps",
-                        waves=model.wave_check(problem, self._terms_now))
+                        waves=model.wave_check(problem, problem.terms))
         if fresh:
             if not path.solve_at(start, fallbacks=True):
                 raise SteppingError(f"{stage}: no equilibrium at eps = {start:.6g} "

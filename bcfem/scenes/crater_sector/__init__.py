@@ -24,18 +24,19 @@ _PATHS = ("axisymmetric_suction_waves", "cycle", "drawn_stability", "first_onset
           "suction_stability")
 
 
-def build(params: Params, comm):
-    """The scene (meshed when solved), for :mod:`bcfem.run.runner`."""
+def build(params: Params, comm, *, extra_terms=()):
+    """The scene (meshed when solved), for :mod:`bcfem.run.runner`. ``extra_terms``: a research
+    script's terms, in every problem on the wedge."""
     from bcfem.scenes.crater_sector.scene import SectorScene
 
-    return SectorScene(params, comm)
+    return SectorScene(params, comm, extra_terms)
 
 
-def solve(params: Params, comm) -> tuple[list[dict], dict]:
+def solve(params: Params, comm, *, extra_terms=()) -> tuple[list[dict], dict]:
     """One run in memory: (rows, summary)."""
     from bcfem.run.runner import solve_rows
 
-    return solve_rows(build(params, comm), comm)
+    return solve_rows(build(params, comm, extra_terms=extra_terms), comm)
 
 
 def __getattr__(name: str):

@@ -45,7 +45,8 @@ class Sector:
     and solid terms (:attr:`solids`, with :attr:`mirror`, the oblique face's multiplier term, if
     any: every problem on the wedge includes :attr:`terms`)."""
 
-    def __init__(self, sector: CraterSector, beta: float, kappa_ratio: float, comm, layer_stiffness: float = 1.0):
+    def __init__(self, sector: CraterSector, beta: float, kappa_ratio: float, comm, layer_stiffness: float = 1.0,
+                 extra_terms=()):
         data = create_mesh(sector, comm)
         self.mesh, self.facets = msh, facets = data.mesh, data.facet_tags
         V = fem.functionspace(msh, ("Lagrange", 2, (3,)))
@@ -74,13 +75,15 @@ class Sector:
         self.nodes = V.tabulate_dof_coordinates()
         self.wall_nodes = fem.locate_dofs_topological(V, 2, facets.find(WALL))
         self.sector = sector
+        #: a research script's terms, in every problem on the wedge
+        self.extra_terms = tuple(extra_terms)
         self._fourier: dict[tuple, tuple] = {}
         self._forms: dict[str, fem.Form] = {}
 
     @property
     def terms(self) -> list:
-        """The solids and the oblique mirror's multiplier term (if the wedge has one)."""
-        return [*self.solids, *([self.mirror] if self.mirror else [])]
+        """The solids, the oblique mirror's multiplier term (if the wedge has one) and the extra terms."""
+        return [*self.solids, *([self.mirror] if self.mirror else []), *self.extra_terms]
 
     @property
     def crater_volume(self) -> float:

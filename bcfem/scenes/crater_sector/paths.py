@@ -27,9 +27,9 @@ __all__ = ["axisymmetric_suction_waves", "cycle", "drawn_stability", "first_onse
 
 
 def cycle(preload: float, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4, steps: int = 4,
-          sector: CraterSector = CraterSector(), comm=MPI.COMM_WORLD) -> list[dict]:
+          sector: CraterSector = CraterSector(), comm=MPI.COMM_WORLD, extra_terms=()) -> list[dict]:
     """Rows (stage, eps, p_over_pa, V_over_V0, A_over_A0, F_tilde) of the cycle (collective)."""
-    model = Sector(sector, beta, kappa_ratio, comm)
+    model = Sector(sector, beta, kappa_ratio, comm, extra_terms=extra_terms)
     ctx, kin, bcs, solids = model.ctx, model.ctx.kin, model.bcs, model.terms
     cavity = Cavity(WALL)
     volume = fem.form(cavity.volume(kin))
@@ -65,21 +65,22 @@ def cycle(preload: float, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4
 
 
 def loading_stability(strains, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4,
-                      sector: CraterSector = CraterSector(), bisections: int = 6, comm=MPI.COMM_WORLD) -> dict:
+                      sector: CraterSector = CraterSector(), bisections: int = 6, comm=MPI.COMM_WORLD,
+                      extra_terms=()) -> dict:
     """Vented loading of the wedge through the increasing ``strains``, its stability followed
     (:func:`first_onset`; collective)."""
-    model = Sector(sector, beta, kappa_ratio, comm)
+    model = Sector(sector, beta, kappa_ratio, comm, extra_terms=extra_terms)
     return first_onset(model, model.terms, model.set_platen, strains, bisections, "eps")
 
 
 def suction_stability(suctions, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4,
                       layer_stiffness: float = 1.0, sector: CraterSector = CraterSector(), bisections: int = 6,
-                      comm=MPI.COMM_WORLD) -> dict:
+                      comm=MPI.COMM_WORLD, extra_terms=()) -> dict:
     """The wedge at eps = 0 with the crater pulled by a dead suction s (over p_a; the crater
     scene's vacuum term, :class:`bcfem.physics.fluids.Vacuum`) through the increasing ``suctions``,
     its stability followed (:func:`first_onset`; collective). A stiff lining (``sector``'s
     ``layer_thickness``, ``layer_stiffness`` beta'), pulled in, is compressed in hoop and wrinkles."""
-    model = Sector(sector, beta, kappa_ratio, comm, layer_stiffness)
+    model = Sector(sector, beta, kappa_ratio, comm, layer_stiffness, extra_terms)
     suction = model.ctx.constant("vacuum_load")
 
     def set_suction(s: float) -> None:
@@ -90,7 +91,7 @@ def suction_stability(suctions, beta: float = 47.3 / 101.325, kappa_ratio: float
 
 def drawn_stability(removed, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4, layer_stiffness: float = 1.0,
                     sector: CraterSector = CraterSector(), bisections: int = 6, amplitudes=(),
-                    comm=MPI.COMM_WORLD) -> dict:
+                    comm=MPI.COMM_WORLD, extra_terms=()) -> dict:
     """As :func:`suction_stability`, with the crater's volume drawn off instead: V = (1 - r) V0
     through the increasing fractions ``removed`` (a liquid's constraint, its pressure p the
     multiplier; the suction is s = 1 - p). A fold of the suction is passed; the n >= 1 modes do
@@ -98,7 +99,7 @@ def drawn_stability(removed, beta: float = 47.3 / 101.325, kappa_ratio: float = 
     (r, unstable, s); with ``amplitudes`` (increasing from 0, in crater radii), the bifurcated
     branch from the onset, followed by its wave's amplitude (:func:`.branch.wave_branch`: "mode",
     "waves", "branch" rows {amplitude, r, s, unstable, fourier}) (collective)."""
-    model = Sector(sector, beta, kappa_ratio, comm, layer_stiffness)
+    model = Sector(sector, beta, kappa_ratio, comm, layer_stiffness, extra_terms)
     V0 = model.crater_volume
     liquid = IncompressibleLiquid(Cavity(WALL), sealed_volume=V0)
     model.ctx.real_state(liquid.pressure_name).x.array[:] = 1.0

@@ -14,14 +14,15 @@ class SectorScene(Scene):
 
     name = "crater-sector"
 
-    def __init__(self, params: Params, comm):
-        self.params, self.comm = params, comm
+    def __init__(self, params: Params, comm, extra_terms=()):
+        self.params, self.comm, self.extra_terms = params, comm, tuple(extra_terms)
         self.stages = ("load", "unload") if params.drive == "cycle" else ("drawn",)
         self.columns = columns(params.drive)
 
     def solve(self, run) -> None:
         p = self.params
-        common = dict(beta=p.beta, kappa_ratio=p.kappa_ratio, sector=p.geometry(), comm=self.comm)
+        common = dict(beta=p.beta, kappa_ratio=p.kappa_ratio, sector=p.geometry(), comm=self.comm,
+                      extra_terms=self.extra_terms)
         if p.drive == "cycle":
             rows = paths.cycle(p.preload, steps=p.steps, **common)
             for row in rows:
