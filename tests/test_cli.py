@@ -1,6 +1,8 @@
 """The CLI contract of ``bcfem run blister-rigid``: outputs, bad input, MPI invariance."""
 
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -160,3 +162,16 @@ def test_moving_edges_under_mpi_equal_serial(tmp_path, edge):
     if edge != "sliding":
         assert s2["delamination_onset"]["V_over_V0"] == pytest.approx(
             s1["delamination_onset"]["V_over_V0"], rel=1e-8)
+
+
+@pytest.mark.serial
+def test_a_script_may_import_dolfinx_before_bcfem():
+    """FEniCSx scripts import dolfinx first; in bcfem's venv that loads MPI first as it must
+    (tools/bcfem-mpi-first.pth), and a plain Python start loads no MPI at all."""
+    script = ("import dolfinx; import bcfem; from mpi4py import MPI; "
+              "print(dolfinx.mesh.create_unit_interval(MPI.COMM_SELF, 2))")
+    res = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    res = subprocess.run([sys.executable, "-c", "import sys; print('mpi4py' in sys.modules)"], capture_output=True,
+                         text=True, timeout=60)
+    assert res.stdout.strip() == "False"

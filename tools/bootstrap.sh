@@ -4,8 +4,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VENV=${VENV:-.venv}
+# `import dolfinx` first works in the venv: a finder imports dolfinx_solver (MPI first) ahead of it
+mpi_first() {
+  cp tools/bcfem-mpi-first.pth "$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_path("purelib"))')/"
+}
 if [ -x "$VENV/bin/python" ] && "$VENV/bin/python" -c 'import sys; sys.exit(sys.version_info < (3, 12))' \
    && [ "$VENV/.installed" -nt pyproject.toml ] && [ "$VENV/.installed" -nt tools/constraints.txt ]; then
+  mpi_first
   exit 0
 fi
 find_python() {
@@ -28,5 +33,6 @@ echo "bootstrap: creating $VENV with $("$PY" --version)"
 "$VENV/bin/python" -m pip install -q --upgrade pip
 # pinned: map points past instabilities move with round-off (tools/constraints.txt)
 "$VENV/bin/python" -m pip install -q -c tools/constraints.txt -e ".[all]"
+mpi_first
 touch "$VENV/.installed"
 echo "bootstrap: installed bcfem into $VENV"
