@@ -98,7 +98,7 @@ def _run(parser, args, module, params, comm) -> int:
             _say(comm, f"{name}: {summary['error']} (the traceback is in {args.out / 'summary.json'})")
             return 1
         try:
-            summary = runner.run(scene, args.out, comm, plots=args.plots, started=started)
+            summary = runner.solve_into(scene, args.out, comm, plots=args.plots, started=started)
         except interrupt.Interrupted as err:
             if err.run is None:  # before the solve began: still a status on disk
                 runner.write_unsolved(args.out, args.scene, params, err, comm)

@@ -23,6 +23,13 @@ def configure(comm, quiet: bool = False) -> None:
         logger.setLevel(logging.CRITICAL + 1)
 
 
+def ensure(comm, quiet: bool = False) -> None:
+    """:func:`configure`, unless the log already has a handler (the command line's, or a script's
+    own): a script that solves a scene sees the command line's progress lines."""
+    if not logger.handlers:
+        configure(comm, quiet)
+
+
 def progress(message: str) -> None:
     """One progress line (INFO level, so --quiet removes it)."""
     logger.info(message)

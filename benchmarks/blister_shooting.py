@@ -243,7 +243,7 @@ def bcfem_phases(case: dict) -> dict:
     options.insert_command_line([])
     scene = module.build(params, MPI.COMM_WORLD)
     t2 = time.perf_counter()
-    summary = runner.run(scene, Path(args.out), MPI.COMM_WORLD, plots=False)
+    summary = runner.solve_into(scene, Path(args.out), MPI.COMM_WORLD, plots=False)
     t3 = time.perf_counter()
     return {"t_module": t0 - T_START, "t_import": t1 - t0, "t_build": t2 - t1, "t_run": t3 - t2,
             "wall_time_s": summary["wall_time_s"], "t_end": t3 - T_START}
@@ -774,7 +774,7 @@ def markdown(rows, info, args) -> str:
     for title, get in [("interpreter start (`python -c pass`)", lambda n: t_pass),
                        ("imports: dolfinx_solver/MPI, dolfinx, petsc4py, ufl, bcfem, the scene", lambda n: ph[n]["t_import"]),
                        ("`build`: mesh, forms from the JIT cache, observables", lambda n: ph[n]["t_build"]),
-                       ("`runner.run`: solve and output (its `wall_time_s`)",
+                       ("`runner.solve_into`: solve and output (its `wall_time_s`)",
                         lambda n: f"{ph[n]['t_run']:.3f} ({ph[n]['wall_time_s']:.3f})"),
                        ("exit (MPI/PETSc finalisation) and the rest", lambda n: ph[n]["rest"]),
                        ("**whole process** (CPU)", lambda n: f"**{ph[n]['process']:.3f}** ({ph[n]['cpu']:.3f})")]:

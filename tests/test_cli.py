@@ -175,3 +175,30 @@ def test_a_script_may_import_dolfinx_before_bcfem():
     res = subprocess.run([sys.executable, "-c", "import sys; print('mpi4py' in sys.modules)"], capture_output=True,
                          text=True, timeout=60)
     assert res.stdout.strip() == "False"
+
+
+SCRIPT = """
+import sys
+import bcfem
+from mpi4py import MPI
+from bcfem.scenes import blister_rigid
+params = blister_rigid.Params(material="neo-hookean", v_max=0.5, cells=20)
+if sys.argv[1] == "trace":
+    bcfem.trace(blister_rigid.build(params, MPI.COMM_WORLD), quiet=sys.argv[2] == "quiet")[1].close()
+else:
+    summary = bcfem.solve_into(blister_rigid.build(params, MPI.COMM_WORLD), sys.argv[2], MPI.COMM_WORLD)
+    assert summary["status"] == "ok"
+"""
+
+
+@pytest.mark.serial
+def test_a_script_sees_progress_lines_and_writes_the_standard_folder(tmp_path):
+    def script(*args):
+        res = subprocess.run([sys.executable, "-c", SCRIPT, *args], capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, res.stderr
+        return res.stderr
+
+    assert "V_over_V0" in script("trace", "loud") and script("trace", "quiet") == ""
+    script("run", str(tmp_path / "out"))
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["status"] == "ok" and {"branch.csv", "summary.json", "pv.png"} <= set(summary["files"])

@@ -26,7 +26,7 @@ from contextlib import contextmanager
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
 
-from bcfem import interrupt, io, jit
+from bcfem import interrupt, io, jit, log
 from bcfem.log import logger
 from bcfem.path.continuation import ContinuationError
 from bcfem.path.stepping import SteppingError
@@ -181,6 +181,7 @@ def solve(scene: Scene, comm, fields_path: Path | None = None,
     clock and the JIT's tally when the scene began to be built (its wall time and compiles
     count from there; default: from here)."""
     jit.install()
+    log.ensure(comm)
     t0, jit0 = started if started is not None else (time.perf_counter(), jit.tally())
     run = Run(scene, comm, fields_path)
     status, error, raised = "ok", None, None
@@ -245,7 +246,8 @@ def time_split(timings: dict, wall: float, jit_s: float = 0.0) -> dict:
     return split
 
 
-def run(scene: Scene, out: Path, comm, plots: bool = True, started: tuple[float, jit.Tally] | None = None) -> dict:
+def solve_into(scene: Scene, out: Path, comm, plots: bool = True,
+               started: tuple[float, jit.Tally] | None = None) -> dict:
     """Solve ``scene`` and write ``out`` (also on failure or a signal, then raising
     :class:`SolveError` or :class:`~bcfem.interrupt.Interrupted` after writing), with the
     scene's PNGs unless ``plots`` is False; returns the summary. The summary's ``files``

@@ -3,12 +3,13 @@ its first point, a trace back from it where the scene asks, and the trace forwar
 
 from __future__ import annotations
 
+from bcfem import log
 from bcfem.path.continuation import ArcLength, Branch, ContinuationError
 from bcfem.solver.problem import Problem
 
 
 def trace(scene, on_accept=None, run=None, arc: ArcLength | None = None,
-          problem: Problem | None = None) -> tuple[Branch, Problem]:
+          problem: Problem | None = None, quiet: bool = False) -> tuple[Branch, Problem]:
     """Build the arc-length problem of ``scene``, start it and follow the branch.
 
     The scene's hooks say how: ``arc_length()`` measures the steps, ``energy_scale`` is the
@@ -18,7 +19,10 @@ def trace(scene, on_accept=None, run=None, arc: ArcLength | None = None,
     run's (stage ``branch``); a :class:`ContinuationError` then carries the converged
     part as ``err.branch`` and the problem as ``err.problem``. A given ``arc`` and ``problem``
     (built for this scene's model, e.g. kept by :class:`bcfem.run.session.Session`) are reused.
+    A script whose log has no handler sees the command line's progress lines on rank 0, unless
+    ``quiet`` (:func:`bcfem.log.ensure`).
     """
+    log.ensure(scene.ctx.mesh.comm, quiet)
     arc = arc or scene.arc_length()
     if problem is None:
         arguments = (scene.ctx, scene.terms, scene.bcs)
