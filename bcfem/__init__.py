@@ -24,6 +24,7 @@ _PUBLIC = {
     "Context": "bcfem.physics.context",
     "ContinuationParams": "bcfem.params",
     "Gent": "bcfem.physics.materials",
+    "MooneyRivlin": "bcfem.physics.materials",
     "NeoHookean": "bcfem.physics.materials",
     "NearlyIncompressibleNeoHookean": "bcfem.physics.materials",
     "MembraneStrain": "bcfem.physics.energies",

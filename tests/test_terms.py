@@ -32,6 +32,7 @@ from bcfem import (
     Gent,
     Kinematics,
     MembraneStrain,
+    MooneyRivlin,
     NeoHookean,
     PressureVolume,
     SurfaceTension,
@@ -108,6 +109,7 @@ THETA = 1.1  # the drop's contact angle
 TERMS = {
     "neo-hookean": ("membrane", lambda ctx: MembraneStrain(NeoHookean())),
     "gent": ("membrane", lambda ctx: MembraneStrain(Gent(Jm=20.0))),
+    "mooney-rivlin": ("membrane", lambda ctx: MembraneStrain(MooneyRivlin(C1=0.4, C2=0.15))),
     "surface-tension": ("membrane", lambda ctx: SurfaceTension(0.7)),
     "pressure-volume": ("membrane", lambda ctx: PressureVolume()),
     "wetted-substrate": ("membrane", lambda ctx: WettedSubstrate(-0.4)),
@@ -331,6 +333,25 @@ def test_gent_tends_to_neo_hookean():
     assert dev[0] / dev[1] == pytest.approx(10, rel=0.02)
     assert dev[1] / dev[2] == pytest.approx(10, rel=0.002)
     assert global_sum(fem.form(MembraneStrain(Gent(Jm=math.inf)).energy(ctx))) == pytest.approx(nh, rel=1e-14)
+
+
+@pytest.mark.mpi
+def test_mooney_rivlin_energy_and_tractions_of_an_equibiaxial_stretch():
+    """A flat membrane stretched by λ in both directions: I1 = 2λ² + λ⁻⁴, I2 = λ⁴ + 2λ⁻², and the
+    tension N = 2 t (λ² − λ⁻⁴)(C1 + λ² C2)/λ² (a spherical balloon's P = 2N/(λR))."""
+    lam, C1, C2, t = 1.3, 0.4, 0.15, 0.7
+    ctx = make_ctx()
+    ctx.u.interpolate(lambda x: np.vstack([(lam - 1) * x[0], 0 * x[0]]))
+    term = MembraneStrain(MooneyRivlin(C1, C2), thickness=t)
+    energy = t * (C1 * (2 * lam**2 + lam**-4 - 3) + C2 * (lam**4 + 2 * lam**-2 - 3))
+    assert global_sum(fem.form(term.energy(ctx))) == pytest.approx(math.pi * energy, rel=1e-12)
+    tension = 2 * t * (lam**2 - lam**-4) * (C1 + lam**2 * C2) / lam**2
+    for N in term.tractions(ctx):
+        assert global_sum(fem.form(ctx.kin.integral(N))) == pytest.approx(math.pi * tension, rel=1e-12)
+    # C2 = 0 is neo-Hookean with mu = 2 C1
+    nh = global_sum(fem.form(MembraneStrain(NeoHookean(0.8), thickness=t).energy(ctx)))
+    assert global_sum(fem.form(MembraneStrain(MooneyRivlin(0.4, 0.0), thickness=t).energy(ctx))) == pytest.approx(
+        nh, rel=1e-13)
 
 
 @pytest.mark.parametrize("kwargs, word", [({"Jm": 0.0}, "Jm"), ({"Jm": -1.0}, "Jm"), ({"mu": -1.0}, "mu")])

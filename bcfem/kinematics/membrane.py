@@ -94,6 +94,7 @@ class AxisymmetricMembrane:
         self.lam_r = ufl.sqrt(self.dr**2 + self.dz**2)
         self.lam_theta = self.r / self.R
         self.I1 = self.lam_r**2 + self.lam_theta**2 + 1 / (self.lam_r * self.lam_theta) ** 2
+        self.I2 = (self.lam_r * self.lam_theta) ** 2 + 1 / self.lam_r**2 + 1 / self.lam_theta**2
         self._dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags,
                                metadata={"quadrature_degree": quadrature_degree})
         x = mesh.geometry.x[:, 0]

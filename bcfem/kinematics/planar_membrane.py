@@ -53,6 +53,8 @@ class PlanarMembrane(ReferenceMean):
         self.C = self.F.T * self.F
         self.det_C = ufl.det(self.C)
         self.taut_I1 = ufl.tr(self.C) + 1 / self.det_C
+        #: the second invariant of the taut membrane (λ3 = 1/(λ1 λ2)); the relaxation is I1's
+        self.I2 = self.det_C + ufl.tr(self.C) / self.det_C
         lam1, lam2 = self.principal_stretches()
         #: where the taut membrane would be compressed across its tension lines
         self.wrinkled = ufl.lt(lam2**4 * lam1**2, 1.0)
@@ -110,12 +112,14 @@ class PlanarMembrane(ReferenceMean):
         length = ufl.sqrt(ufl.inner(t, t))
         return ufl.conditional(ufl.gt(length, 1e-12), t / ufl.max_value(length, 1e-12), 0 * t)
 
-    def principal_tensions(self, dW_dI1, thickness: float = 1.0):
+    def principal_tensions(self, dW_dI1, thickness: float = 1.0, dW_dI2=0.0):
         r"""(N1, N2), the taut membrane's principal tensions (force per current length) of an
-        energy t0 W(I1): :math:`N_i = 2 t_0 W'(I_1)(\lambda_i^2 - \lambda_3^2)/(\lambda_1\lambda_2)`."""
+        energy t0 W(I1, I2): :math:`N_i = 2 t_0 (\lambda_i^2 - \lambda_3^2)(W_1 + \lambda_j^2 W_2)
+        /(\lambda_1\lambda_2)`, j the other direction."""
         lam1, lam2 = self.principal_stretches()
         lam3_sq = 1 / self.det_C
-        return tuple(2 * thickness * dW_dI1 * (lam**2 - lam3_sq) / (lam1 * lam2) for lam in (lam1, lam2))
+        return tuple(2 * thickness * (lam**2 - lam3_sq) * (dW_dI1 + other**2 * dW_dI2) / (lam1 * lam2)
+                     for lam, other in ((lam1, lam2), (lam2, lam1)))
 
     def tension(self, dW_dI1, thickness: float = 1.0):
         r"""The membrane's tension tensor (force per current length) in the current

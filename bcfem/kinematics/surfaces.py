@@ -77,6 +77,7 @@ class MembraneSurface:
         self.lam_r = ufl.sqrt(self.dr**2 + self.dz**2)
         self.lam_theta = self.r / self.R
         self.I1 = self.lam_r**2 + self.lam_theta**2 + 1 / (self.lam_r * self.lam_theta) ** 2
+        self.I2 = (self.lam_r * self.lam_theta) ** 2 + 1 / self.lam_r**2 + 1 / self.lam_theta**2
         self._ds = ufl.Measure("ds", domain=mesh, subdomain_data=facet_tags,
                                metadata={"quadrature_degree": quadrature_degree})
         self.reference_area = math.pi * (radii[1] ** 2 - radii[0] ** 2)

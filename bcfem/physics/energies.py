@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 import ufl
 
 from bcfem.params import require
-from bcfem.physics.materials import slope
+from bcfem.physics.materials import slopes
 from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
@@ -32,7 +32,7 @@ class MembraneStrain(Term):
     r"""Strain energy of a thin incompressible membrane, :math:`U_f = \int t_0 W(I_1)\, dA` (eq. 3.25).
 
     Attributes:
-        material: a material with ``strain_energy(I1)``.
+        material: a material with ``strain_energy(I1, I2)``.
         thickness: reference thickness t0 [m]; 1 in normalised units.
     """
 
@@ -47,18 +47,19 @@ class MembraneStrain(Term):
     def energy(self, ctx: Context) -> ufl.Form:
         kin = ctx.kin
         thickness, material = ctx.parameters(self).thickness, ctx.parameters(self.material)
-        return kin.integral(thickness * material.strain_energy(kin.I1))
+        return kin.integral(thickness * material.strain_energy(kin.I1, kin.I2))
 
     def tractions(self, ctx):
         r"""Membrane tractions (force per current length), eq. 3.35:
         :math:`N_r = (t_0/\lambda_\theta)\,\partial W/\partial\lambda_r`,
-        :math:`N_\theta = (t_0/\lambda_r)\,\partial W/\partial\lambda_\theta`."""
+        :math:`N_\theta = (t_0/\lambda_r)\,\partial W/\partial\lambda_\theta`, with
+        :math:`\partial W/\partial\lambda = W_1\,\partial I_1/\partial\lambda + W_2\,\partial I_2/\partial\lambda`."""
         kin = ctx.kin
         thickness, material = ctx.parameters(self).thickness, ctx.parameters(self.material)
-        dW = slope(material, kin.I1)
+        W1, W2 = slopes(material, kin.I1, kin.I2)
         lr, lt = kin.lam_r, kin.lam_theta
-        N_r = thickness / lt * dW * (2 * lr - 2 / (lr**3 * lt**2))
-        N_t = thickness / lr * dW * (2 * lt - 2 / (lr**2 * lt**3))
+        N_r = thickness / lt * (W1 * (2 * lr - 2 / (lr**3 * lt**2)) + W2 * (2 * lr * lt**2 - 2 / lr**3))
+        N_t = thickness / lr * (W1 * (2 * lt - 2 / (lr**2 * lt**3)) + W2 * (2 * lt * lr**2 - 2 / lt**3))
         return N_r, N_t
 
 

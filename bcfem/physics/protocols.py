@@ -213,9 +213,10 @@ def find_term[T](terms: Iterable, kind: type[T]) -> T:
 
 
 class Hyperelastic(Protocol):
-    """A strain energy per unit reference volume as a function of I1 (:mod:`bcfem.physics.materials`)."""
+    """A strain energy per unit reference volume as a function of the invariants I1 and I2
+    (:mod:`bcfem.physics.materials`; most ignore I2)."""
 
-    def strain_energy(self, I1): ...
+    def strain_energy(self, I1, I2=None): ...
 
 
 class SolidMaterial(Protocol):

@@ -19,7 +19,7 @@ from bcfem.mpi import cell_maximum, global_sum, real_value
 from bcfem.path.branch import Switch
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension, WettedSubstrate
-from bcfem.physics.materials import slope
+from bcfem.physics.materials import slopes
 from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
 from bcfem.scenes.blister_3d.mirrored import create_mirrored_mesh
 from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, COLUMNS, V0, Params
@@ -69,9 +69,9 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     I1 = cell_maximum(msh, kin.I1 - 3, degree)
     stretch = cell_maximum(msh, kin.principal_stretches()[0], degree)
     heights = V.sub(2).collapse()[1]  # the z components in u.x.array
-    dW = slope(ctx.parameters(strain.material), kin.taut_I1)
+    W1, W2 = slopes(ctx.parameters(strain.material), kin.taut_I1, kin.I2)
     alpha = ctx.parameters(tension).gamma if tension else 0.0
-    N1, N2 = (N + alpha for N in kin.principal_tensions(dW))
+    N1, N2 = (N + alpha for N in kin.principal_tensions(W1, dW_dI2=W2))
     compression = cell_maximum(msh, -N2, degree)
     wrinkled = fem.form(kin.integral(ufl.conditional(ufl.lt(N2, 0), 1.0, 0.0) / kin.reference_area))
     measures = fem.Function(V, name="measures")
