@@ -52,6 +52,7 @@ _PUBLIC = {
     "StagedScene": "bcfem.run.stages",
     "Run": "bcfem.run.runner",
     "trace": "bcfem.run.trace",
+    "branch_of": "bcfem.run.trace",
     "solve_into": "bcfem.run.runner",
     "VolumeControl": "bcfem.path.volume_control",
     "global_sum": "bcfem.mpi",
