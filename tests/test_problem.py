@@ -334,3 +334,37 @@ def test_a_term_has_a_default_name_and_no_multipliers_and_a_stranger_is_refused(
     ctx = Context(fem.Function(fem.functionspace(msh, ("Lagrange", 1))))
     with pytest.raises(TypeError, match="Stranger is not an energy term: inherit bcfem.Term"):
         Problem(ctx, [Stranger()], [], "bcfem_test_stranger_")
+
+
+class Spring1D(Term):
+    """(1/2)∫u'² - ∫ f u with ∫ f = 0: without a Dirichlet condition u + c is as good as u."""
+
+    def energy(self, ctx):
+        x = ufl.SpatialCoordinate(ctx.mesh)[0]
+        return (0.5 * ctx.u.dx(0) ** 2 - ufl.cos(2 * ufl.pi * x) * ctx.u) * ufl.dx
+
+
+@pytest.mark.parametrize("held", [True, False])
+def test_a_singular_tangent_is_reported(held):
+    """A free rigid mode (here a constant shift) gives the tangent a null pivot: the problem
+    counts it, the log says so and the run's summary reports it; held at one end, the
+    tangent is regular."""
+    from bcfem.run.runner import solve
+    from bcfem.run.scene import Scene
+
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 8)
+    V = fem.functionspace(msh, ("Lagrange", 2))
+    ctx = Context(fem.Function(V))
+    left = fem.locate_dofs_geometrical(V, lambda x: np.isclose(x[0], 0.0))
+    bcs = [fem.dirichletbc(0.0, left, V)] if held else []
+
+    class Toy(Scene):
+        name, stages = "toy", ("solve",)
+
+        def solve(self, run):
+            with run.stage("solve", ctx, [Spring1D()], bcs) as problem:
+                assert problem.solve()
+                assert (problem.null_pivots == 0) == held
+
+    _, summary = solve(Toy(), MPI.COMM_WORLD)
+    assert (summary["null_pivots"] == 0) == held

@@ -88,6 +88,8 @@ class Run:
         self.dofs = 0
         self.newton_iterations = 0
         self.failed_solves = 0
+        #: the most null pivots of a converged tangent, over every stage (0: all regular)
+        self.null_pivots = 0
         self.timings = dict.fromkeys(TIMED, 0.0)
         self.summary: dict = {}
         self._problems: list[Problem] = []
@@ -125,6 +127,7 @@ class Run:
             self._problems.remove(problem)
             self.newton_iterations += problem.newton_iterations
             self.failed_solves += problem.failed_solves
+            self.null_pivots = max(self.null_pivots, problem.null_pivots or 0)
             for key, seconds in problem.timings.items():
                 self.timings[key] = self.timings.get(key, 0.0) + seconds
             problem.close()
@@ -211,6 +214,7 @@ def solve(scene: Scene, comm, fields_path: Path | None = None,
         "steps": len(run.rows),
         "newton_iterations": run.newton_iterations,
         "failed_solves": run.failed_solves,
+        "null_pivots": run.null_pivots,
         "dofs": run.dofs,
         "ranks": comm.size,
         "wall_time_s": (wall := time.perf_counter() - t0),

@@ -19,13 +19,15 @@ from dolfinx import fem
 from dolfinx.fem.petsc import NonlinearProblem, assign
 
 from bcfem import interrupt, jit
-from bcfem.physics.protocols import DiscreteTerm, Term
-from bcfem.solver import fieldsplit, options, petsc_events
+from bcfem.log import logger
+from bcfem.physics.protocols import DiscreteTerm
+from bcfem.solver import fieldsplit, options, petsc_events, pivots
 from bcfem.solver.algebra import ConvergedAlgebra
 from bcfem.solver.assembly import Assembly
 from bcfem.solver.fieldsplit import FieldSplit
 from bcfem.solver.newton_cycles import RepeatedIterates
 from bcfem.solver.reduced_lu import ReducedLU
+from bcfem.solver.terms import checked_terms, declared_multipliers
 
 #: the parts of :attr:`Problem.timings`
 TIMED = ("assembly", "discrete_terms", "factorisation", "linear_solve", "newton", "stability")
@@ -109,6 +111,8 @@ class Problem(ConvergedAlgebra):
         self.last_rejection: str | None = None
         #: Newton steps shortened by :meth:`bound_steps`
         self.bounded_steps = 0
+        #: null pivots of the tangent at the first converged state (0: regular; :mod:`.pivots`)
+        self.null_pivots: int | None = None
         self._tangent_ksp = None
         self._bounds: tuple[PETSc.Vec, ...] = ()
         self._owned: list = []
@@ -244,6 +248,7 @@ class Problem(ConvergedAlgebra):
             self.inadmissible = next((message for term in self.discrete
                                       for message in [term.inadmissible()] if message), None)
             ok = self.inadmissible is None
+            self._check_pivots()
             if not ok:
                 self.rejections += 1
                 self.last_rejection = self.inadmissible
@@ -251,6 +256,14 @@ class Problem(ConvergedAlgebra):
             # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
             self.snes.getKSP().getPC().reset()
         return ok
+
+    def _check_pivots(self) -> None:
+        """Count the tangent's null pivots once, at the first converged state (:mod:`.pivots`)."""
+        if self.null_pivots is None:
+            with self.timed("stability"):
+                self.null_pivots = pivots.of_tangent(self.snes, self.prefix)
+            if self.null_pivots:
+                logger.warning(pivots.warning(self.prefix, self.null_pivots))
 
     @property
     def failure(self) -> str:
@@ -387,28 +400,3 @@ class Problem(ConvergedAlgebra):
 
     def __exit__(self, *exc):
         self.close()
-
-
-def checked_terms(terms) -> list:
-    """``terms`` as a list, each a :class:`~bcfem.physics.protocols.Term` or a
-    :class:`~bcfem.physics.protocols.DiscreteTerm`.
-
-    Raises:
-        TypeError: naming the first that is neither, and the fix.
-    """
-    terms = list(terms)
-    for term in terms:
-        if not isinstance(term, (Term, DiscreteTerm)):
-            raise TypeError(f"{type(term).__name__} is not an energy term: inherit bcfem.Term (its energy(ctx), "
-                            "name and multipliers) or bcfem.DiscreteTerm")
-    return terms
-
-
-def declared_multipliers(terms, names: list[str], rows: dict) -> tuple[str, ...]:
-    """The multiplier states the terms declare (``multipliers``), in the order of ``names``;
-    each must be a state."""
-    declared = {n for t in terms for n in t.multipliers}
-    missing = declared.difference(names)
-    if missing:
-        raise ValueError(f"terms declare the multipliers {sorted(missing)}, which no term's energy created")
-    return tuple(n for n in names if n in declared and n not in rows)

@@ -137,7 +137,8 @@ class WaveAmplitude(Term):
             ctx, -force * amplitude + zero * force**2)
 
 
-def wave_branch(model, problem, terms, fraction: float, amplitudes, count, cutbacks: int = 4) -> dict:
+def wave_branch(model, problem, terms, fraction: float, amplitudes, count, cutbacks: int = 4,
+                open_problem=None) -> dict:
     r"""The bifurcated branch from the state of ``problem`` (volume-controlled, the fraction
     ``fraction`` drawn off, just below a bifurcation), followed by its wave's amplitude: the
     critical mode's largest cos n theta content c_n is driven through c_n(start) + ``amplitudes``
@@ -154,7 +155,7 @@ def wave_branch(model, problem, terms, fraction: float, amplitudes, count, cutba
     the onset the fundamental branch's own c_n changes by a few 1e-4 a (size 0.1). A first step
     below that can meet the fundamental branch instead, and the secant from there leads astray:
     take the amplitudes' steps well above it (e.g. 0.002)."""
-    from bcfem.solver.problem import Problem
+    from bcfem.scenes.crater_sector.onset import standalone
 
     ctx = model.ctx
     m = model.sector.wedge_waves
@@ -174,9 +175,10 @@ def wave_branch(model, problem, terms, fraction: float, amplitudes, count, cutba
     row = ufl.TestFunction(r_state.function_space)
     zero = ctx.constant("drawn_fraction_diagonal", 0.0)  # r's diagonal in the pattern (see DrawnLiquid)
     result = {"mode": {"mu": mu, "fourier": content}, "waves": n, "rows": [], "failure": None}
-    with Problem(ctx, [*terms, liquid, wave], model.bcs, f"bcfem_crater_sector_wave_{ctx.mesh.comm.size}_",
-                 {"snes_type": "vinewtonrsls"}, rows={"drawn_fraction": over_body(ctx, (force + zero * r_state) * row)},
-                 energy_scale=model.energy_scale, line_search_fallbacks=("bt",)) as path:
+    with (open_problem or standalone(ctx.mesh.comm))(
+            "wave", ctx, [*terms, liquid, wave], model.bcs, {"snes_type": "vinewtonrsls"},
+            rows={"drawn_fraction": over_body(ctx, (force + zero * r_state) * row)}, energy_scale=model.energy_scale,
+            line_search_fallbacks=("bt",)) as path:
         model.contact_bounds(path)
         index = {name: i for i, name in enumerate(path.names)}
         tangent = [np.zeros_like(s.x.array) for s in path.states]

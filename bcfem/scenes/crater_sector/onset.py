@@ -3,6 +3,8 @@ path past it on the bifurcated branch (:mod:`bcfem.scenes.crater_sector.branch`)
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 from bcfem.log import progress
 from bcfem.scenes.crater_sector.model import Sector
 from bcfem.solver.problem import Problem
@@ -15,8 +17,20 @@ class _Failed(RuntimeError):
     """A load step that Newton could not solve."""
 
 
+def standalone(comm):
+    """Problems outside a run: each under ``bcfem_crater_sector_<stage>_<ranks>_``, closed on leaving
+    (a run's :meth:`bcfem.run.runner.Run.stage` opens them in the scene's stead, and counts them)."""
+
+    @contextmanager
+    def open_problem(stage: str, ctx, terms, bcs, petsc_options=None, **kwargs):
+        with Problem(ctx, terms, bcs, f"bcfem_crater_sector_{stage}_{comm.size}_", petsc_options, **kwargs) as problem:
+            yield problem
+
+    return open_problem
+
+
 def first_onset(model: Sector, terms, set_load, loads, bisections: int, name: str, observe=None,
-                beyond=None) -> dict:
+                beyond=None, open_problem=None, stage: str = "onset") -> dict:
     """The load raised through the increasing ``loads`` with the wall in frictionless contact with the
     plate (bounds of the variational-inequality solver), the unstable modes counted after every
     step by the inertia of the 3-D tangent (:func:`bcfem.stability.inertia.unstable_modes`: unknowns
@@ -32,14 +46,15 @@ def first_onset(model: Sector, terms, set_load, loads, bisections: int, name: st
     "failure": None or why the last step failed after its cut-backs (the path ends there; a
     bisection step that Newton fails is retried nearer the stable end), "dofs"}. The states are
     left at the last stable solution below the onset or the failure (at ``beyond``'s last state if
-    it was called) (collective)."""
+    it was called). The problem is ``open_problem``'s stage ``stage`` (default: :func:`standalone`)
+    (collective)."""
     from bcfem.stability.inertia import unstable_modes
 
     comm = model.mesh.comm
     rows, onset = [], None
-    with Problem(model.ctx, terms, model.bcs, f"bcfem_crater_sector_onset_{comm.size}_",
-                 {"snes_type": "vinewtonrsls"}, energy_scale=model.energy_scale,
-                 line_search_fallbacks=("bt", "cp")) as problem:
+    with (open_problem or standalone(comm))(stage, model.ctx, terms, model.bcs, {"snes_type": "vinewtonrsls"},
+                                            energy_scale=model.energy_scale,
+                                            line_search_fallbacks=("bt", "cp")) as problem:
         model.contact_bounds(problem)
 
         def solve_at(load):

@@ -39,8 +39,8 @@ Units and normalisations:
   F_tilde        = (1 - p) A2/A0, the suction force over p_a A0
   c_0, c_m, c_2m the wall's cos n theta content of u.X/|X| over a
   unstable       unstable modes (volume control, contact held), multipliers subtracted
-PETSc prefixes: bcfem_crater_sector_load_, _unload_ (cycle); bcfem_crater_sector_onset_<ranks>_,
-_critical_mode_ and bcfem_crater_sector_wave_<ranks>_ (drawn)."""
+PETSc prefixes: bcfem_crater_sector_load_, _unload_ (cycle); bcfem_crater_sector_drawn_ (its
+critical mode: _drawn_critical_mode_) and bcfem_crater_sector_wave_ (drawn)."""
 
 DRIVES = ("cycle", "drawn")
 

@@ -18,7 +18,7 @@ from bcfem.physics.cavity import Cavity
 from bcfem.physics.fluids import IdealGas, IncompressibleLiquid, Vacuum
 from bcfem.scenes.crater_sector.branch import wave_branch
 from bcfem.scenes.crater_sector.model import Sector
-from bcfem.scenes.crater_sector.onset import first_onset
+from bcfem.scenes.crater_sector.onset import first_onset, standalone
 from bcfem.solver.problem import Problem
 from bcfem.stability.inertia import unstable_modes
 
@@ -27,8 +27,9 @@ __all__ = ["axisymmetric_suction_waves", "cycle", "drawn_stability", "first_onse
 
 
 def cycle(preload: float, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4, steps: int = 4,
-          sector: CraterSector = CraterSector(), comm=MPI.COMM_WORLD, extra_terms=()) -> list[dict]:
-    """Rows (stage, eps, p_over_pa, V_over_V0, A_over_A0, F_tilde) of the cycle (collective)."""
+          sector: CraterSector = CraterSector(), comm=MPI.COMM_WORLD, extra_terms=(), open_problem=None) -> list[dict]:
+    """Rows (stage, eps, p_over_pa, V_over_V0, A_over_A0, F_tilde) of the cycle; its problems are
+    ``open_problem``'s stages ``load`` and ``unload`` (default: :func:`.onset.standalone`) (collective)."""
     model = Sector(sector, beta, kappa_ratio, comm, extra_terms=extra_terms)
     ctx, kin, bcs, solids = model.ctx, model.ctx.kin, model.bcs, model.terms
     cavity = Cavity(WALL)
@@ -52,15 +53,14 @@ def cycle(preload: float, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4
                 raise SteppingError(f"{stage}: Newton failed at eps = {eps:g} ({problem.failure})", eps)
             record(stage, eps, pressure())
 
-    loading = Problem(ctx, solids, bcs, "bcfem_crater_sector_load_", energy_scale=model.energy_scale)
-    path(loading, "load", np.linspace(preload / steps, preload, steps), lambda: 1.0)
-    loading.close()
+    opener = open_problem or standalone(comm)
+    with opener("load", ctx, solids, bcs, energy_scale=model.energy_scale) as loading:
+        path(loading, "load", np.linspace(preload / steps, preload, steps), lambda: 1.0)
     gas = IdealGas(cavity, sealed_volume=global_sum(volume))
     ctx.real_state(gas.pressure_name).x.array[:] = 1.0
-    unloading = Problem(ctx, [*solids, gas], bcs, "bcfem_crater_sector_unload_", energy_scale=model.energy_scale)
-    p = ctx.states[gas.pressure_name]
-    path(unloading, "unload", np.linspace(preload, 0, steps + 1)[1:], lambda: real_value(p))
-    unloading.close()
+    with opener("unload", ctx, [*solids, gas], bcs, energy_scale=model.energy_scale) as unloading:
+        p = ctx.states[gas.pressure_name]
+        path(unloading, "unload", np.linspace(preload, 0, steps + 1)[1:], lambda: real_value(p))
     return rows
 
 
@@ -91,7 +91,7 @@ def suction_stability(suctions, beta: float = 47.3 / 101.325, kappa_ratio: float
 
 def drawn_stability(removed, beta: float = 47.3 / 101.325, kappa_ratio: float = 1e4, layer_stiffness: float = 1.0,
                     sector: CraterSector = CraterSector(), bisections: int = 6, amplitudes=(),
-                    comm=MPI.COMM_WORLD, extra_terms=()) -> dict:
+                    comm=MPI.COMM_WORLD, extra_terms=(), open_problem=None) -> dict:
     """As :func:`suction_stability`, with the crater's volume drawn off instead: V = (1 - r) V0
     through the increasing fractions ``removed`` (a liquid's constraint, its pressure p the
     multiplier; the suction is s = 1 - p). A fold of the suction is passed; the n >= 1 modes do
@@ -114,12 +114,13 @@ def drawn_stability(removed, beta: float = 47.3 / 101.325, kappa_ratio: float = 
             set_removed(r)
             return unstable_modes(problem)
 
-        found = wave_branch(model, problem, model.terms, below, amplitudes, count)
+        found = wave_branch(model, problem, model.terms, below, amplitudes, count, open_problem=open_problem)
         return {"mode": found["mode"], "waves": found["waves"], "branch": found["rows"],
                 "branch_failure": found["failure"]}
 
     return first_onset(model, [*model.terms, liquid], set_removed, removed, bisections, "r",
-                       observe=lambda: 1 - real_value(pressure), beyond=beyond if len(amplitudes) else None)
+                       observe=lambda: 1 - real_value(pressure), beyond=beyond if len(amplitudes) else None,
+                       open_problem=open_problem, stage="drawn")
 
 
 def axisymmetric_suction_waves(suctions, waves: int, layer_thickness: float, layer_stiffness: float,

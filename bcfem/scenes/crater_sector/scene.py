@@ -16,13 +16,14 @@ class SectorScene(Scene):
 
     def __init__(self, params: Params, comm, extra_terms=()):
         self.params, self.comm, self.extra_terms = params, comm, tuple(extra_terms)
-        self.stages = ("load", "unload") if params.drive == "cycle" else ("drawn",)
+        self.stages = ("load", "unload") if params.drive == "cycle" else ("drawn", "wave")
         self.columns = columns(params.drive)
 
     def solve(self, run) -> None:
         p = self.params
+        # every problem is the run's: its options, Newton counts and timings are in summary.json
         common = dict(beta=p.beta, kappa_ratio=p.kappa_ratio, sector=p.geometry(), comm=self.comm,
-                      extra_terms=self.extra_terms)
+                      extra_terms=self.extra_terms, open_problem=run.stage)
         if p.drive == "cycle":
             rows = paths.cycle(p.preload, steps=p.steps, **common)
             for row in rows:
@@ -34,7 +35,6 @@ class SectorScene(Scene):
         m = p.wedge_waves
         found = paths.drawn_stability(p.drawn(), layer_stiffness=p.layer_stiffness, bisections=p.bisections,
                                       amplitudes=p.amplitudes(), **common)
-        run.dofs = found["dofs"]
         for r, unstable, s in sorted(found["rows"]):
             run.record({"stage": "drawn", "branch": "fundamental", "r": r, "s": s, "unstable": unstable})
         onset = found["onset"]

@@ -1,0 +1,55 @@
+"""Null pivots of a tangent: a singular tangent found, not traced silently.
+
+MUMPS' null-pivot detection (ICNTL(24) = 1) counts the pivots it would have had to divide by
+(INFOG(28)). A converged Newton state whose tangent has null pivots is not isolated: a free
+rigid mode (a boundary condition missing) or an unknown no energy constrains, whose value is
+then the solver's choice, not the physics'. The count is a factorisation of its own, so the
+problem's solver runs as it was configured.
+"""
+
+from __future__ import annotations
+
+from petsc4py import PETSc
+
+#: MUMPS options of the count: detect null pivots rather than fail or divide by them
+_OPTIONS = (("mat_mumps_icntl_24", 1),)
+
+
+def null_pivots(A: PETSc.Mat, prefix: str) -> int:
+    """The null pivots of an LU factorisation of ``A`` (the same on every rank; collective).
+    The user's ``-<prefix>mat_mumps_*`` options apply."""
+    opts = PETSc.Options()
+    added = [(key, value) for key, value in _OPTIONS if not opts.hasName(prefix + key)]
+    for key, value in added:
+        opts[prefix + key] = value
+    ksp = PETSc.KSP().create(A.getComm())
+    try:
+        ksp.setOptionsPrefix(prefix)
+        ksp.setType("preonly")
+        pc = ksp.getPC()
+        pc.setType("lu")
+        pc.setFactorSolverType("mumps")
+        ksp.setOperators(A)
+        ksp.setFromOptions()
+        ksp.setUp()  # the factorisation; MUMPS reads its options here
+        return int(pc.getFactorMatrix().getMumpsInfog(28))
+    finally:
+        ksp.destroy()
+        for key, _ in added:
+            opts.delValue(prefix + key)
+
+
+def of_tangent(snes: PETSc.SNES, prefix: str) -> int:
+    """The null pivots of ``snes``'s current tangent, where its own solver is MUMPS' LU or LDLᵀ
+    (one more factorisation); 0 for an iterative or a reduced (variational-inequality) solve,
+    which has no factorisation to spare (collective)."""
+    pc = snes.getKSP().getPC()
+    if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
+        return 0
+    return null_pivots(snes.getJacobian()[0], prefix + "pivots_")
+
+
+def warning(prefix: str, count: int) -> str:
+    return (f"warning: {prefix}: the tangent at the first converged state has {count} null pivot(s): a free "
+            "rigid mode or an unconstrained unknown (a boundary condition missing?); the state is then the "
+            "solver's choice")

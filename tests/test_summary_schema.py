@@ -1,0 +1,45 @@
+"""One ``summary.json`` schema for every scene: the runner's record of any scene's solve has the
+same keys, with the counts of the problems the scene solved (a scene that built its problems
+outside the run would show no Newton iterations, options or dofs)."""
+
+from mpi4py import MPI
+
+import pytest
+
+from bcfem.run.runner import solve, time_split
+from bcfem.scenes import REGISTRY
+from bcfem.solver.problem import TIMED
+
+SCHEMA = {"scene", "status", "error", "parameters", "steps", "newton_iterations", "failed_solves", "null_pivots",
+          "dofs", "ranks", "wall_time_s", "time_split_s", "jit", "versions", "petsc_options"}
+#: a small run of each scene
+SMALL = {
+    "blister-rigid": dict(cells=20, v_max=0.5),
+    "crater-sector": dict(drive="drawn", wedge_waves=8, drawn_max=0.01, drawn_step=0.005),
+    "blister-3d": dict(size=0.25, v_max=0.5),
+    "blister-soft": dict(v_max=0.3),
+    "droplet-soft": dict(size_contact=0.05, width=3),
+    "crater": dict(preload=0.05, size_crater=0.2, strain_step=0.05),
+    "crater-cell": dict(crater_radius=1.0, specimen_height=10.0, filling=0.01, size_wall=0.5, size_far=5.0,
+                        preload=0.05, strain_step=0.05),
+    "crater-double": dict(protuberance_radius=0.0, seal="preload", plate="frictionless", size_wall=0.16,
+                          size_contact=0.04, specimen_radius=3.0, specimen_height=3.0, preload=0.05,
+                          strain_step=0.025),
+}
+FAST = {"blister-rigid", "crater-sector"}
+
+
+def test_every_scene_has_a_small_run():
+    assert set(SMALL) == set(REGISTRY)
+
+
+@pytest.mark.parametrize("scene", [pytest.param(s, marks=() if s in FAST else pytest.mark.slow) for s in SMALL])
+def test_a_scenes_summary_has_the_schema(scene):
+    module = REGISTRY[scene]
+    run, summary = solve(module.build(module.Params(**SMALL[scene]), MPI.COMM_WORLD), MPI.COMM_WORLD)
+    assert SCHEMA <= set(summary), SCHEMA - set(summary)
+    assert summary["status"] == "ok" and summary["steps"] == len(run.rows) > 0
+    assert summary["newton_iterations"] > 0 and summary["dofs"] > 0 and summary["null_pivots"] == 0
+    assert list(summary["time_split_s"]) == list(time_split(dict.fromkeys(TIMED, 0.0), 0.0))
+    prefix = f"bcfem_{scene}_".replace("-", "_")
+    assert summary["petsc_options"] and all(k.startswith(prefix) for k in summary["petsc_options"])
