@@ -84,25 +84,24 @@ def _range_or(convert):
     return parse
 
 
-def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> None:
+def _add_params(parser, params_cls, ranges: bool = False) -> None:
     """One flag per field of ``params_cls``; with ``ranges`` a float flag also takes
-    ``start:stop:step`` (a sweep axis). A field's help, unit, choices and named values
-    come from its metadata (``help``, ``unit``, ``choices``, ``words``), else from
-    ``help_text`` and the class's ``CHOICES`` and ``WORDS``; its range from its bound
-    (:func:`bcfem.params.bound_of`)."""
+    ``start:stop:step`` (a sweep axis). A field's help, unit, choices, named values and range
+    come from its metadata (``help``, ``unit``, ``choices``, ``words``, ``bound``:
+    :func:`bcfem.params.describe`)."""
     defaults = params_cls()
     for f in dataclasses.fields(params_cls):
         default = getattr(defaults, f.name)
         if dataclasses.is_dataclass(default):
             continue
         kind = type(default)
-        text = f.metadata.get("help", help_text.get(f.name, ""))
+        text = f.metadata.get("help", "")
         unit = f.metadata.get("unit", "")
         unit = f" [{unit}]" if unit not in ("", "1") else ""
         bound = bound_of(params_cls, f.name)
         bound = f"; {bound}" if bound else ""
         kwargs = {"default": default, "help": f"{text}{unit}{bound} (default: {default})"}
-        choices = f.metadata.get("choices", getattr(params_cls, "CHOICES", {}).get(f.name))
+        choices = f.metadata.get("choices")
         if choices:
             kwargs["choices"] = list(choices)
         if kind is bool:
@@ -111,7 +110,7 @@ def _add_params(parser, params_cls, help_text: dict, ranges: bool = False) -> No
             kwargs["type"] = _reported(f.metadata["parse"])
         else:
             kwargs["type"] = {float: _float, int: _integer}.get(kind, kind)
-        words = f.metadata.get("words", getattr(params_cls, "WORDS", {}).get(f.name))
+        words = f.metadata.get("words")
         if words:  # named values, e.g. --preload closure
             kwargs["type"] = _words_or(words, kwargs["type"])
         if ranges and kind is float:
@@ -124,7 +123,7 @@ def compiling(params_cls) -> str:
     defaults = params_cls()
     chosen = [flag(f.name) for f in dataclasses.fields(params_cls)
               if not dataclasses.is_dataclass(getattr(defaults, f.name))
-              and (f.metadata.get("choices", getattr(params_cls, "CHOICES", {}).get(f.name))
+              and (f.metadata.get("choices")
                    or type(getattr(defaults, f.name)) in (bool, int, str))]
     return textwrap.fill("Compiling: every number reaches the forms as a constant, so a new value compiles no form "
             "(a number that is 0 may leave its term out, another form). These select the forms, the "
@@ -154,7 +153,7 @@ def build_parser():
     for name, module in REGISTRY.items():
         p = scenes.add_parser(name, help=module.SUMMARY, description=module.DESCRIPTION,
                               epilog=compiling(module.Params), formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, getattr(module, "HELP", {}))
+        _add_params(p, module.Params)
         p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
         p.add_argument("--quiet", action="store_true", help="no progress line")
         p.add_argument("--plots", action=argparse.BooleanOptionalAction, default=True,
@@ -171,7 +170,7 @@ def build_parser():
         module = REGISTRY[name]
         p = sweeps.add_parser(name, help=f"maps {studies.SWEEP['title']}", description=module.DESCRIPTION,
                               formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, getattr(module, "HELP", {}), ranges=True)
+        _add_params(p, module.Params, ranges=True)
         p.add_argument("--grid", action="append", default=[], metavar="NAME=START:STOP:COUNT",
                        help="a grid axis: NAME=START:STOP:COUNT or NAME=V1,V2,... (repeat for each axis; "
                             "two axes give contour maps); a parameter flag given as START:STOP:STEP "
@@ -184,7 +183,7 @@ def build_parser():
             continue
         p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,
                             formatter_class=argparse.RawDescriptionHelpFormatter)
-        _add_params(p, module.Params, getattr(module, "HELP", {}))
+        _add_params(p, module.Params)
         for target, (text, bound) in studies.FIT_TARGETS.items():
             p.add_argument(f"--{target}", dest=f"target_{target}", type=_bounded(bound), required=True,
                            help=f"{text}; {bound}")

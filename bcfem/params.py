@@ -72,10 +72,9 @@ class Bound:
 
 
 def bound_of(cls, name: str) -> Bound | None:
-    """The bound of a field of a parameter class: its metadata's ``bound``, else the class's
-    ``BOUNDS`` entry."""
+    """The bound of a field of a parameter class: its metadata's ``bound`` (None: unbounded)."""
     f = next(f for f in dataclasses.fields(cls) if f.name == name)
-    return f.metadata.get("bound", getattr(cls, "BOUNDS", {}).get(name))
+    return f.metadata.get("bound")
 
 
 def check_bounds(params) -> None:
@@ -130,11 +129,16 @@ class ContinuationParams:
         require(self.max_correction > 0, f"max_correction must be > 0 (got {self.max_correction})")
 
 
-def describe(text: str, unit: str = "", choices=None, words=None, bound: Bound | None = None) -> dict:
+def describe(text: str, unit: str = "", choices=None, words=None, bound: Bound | None = None,
+             budget: bool = False, later: bool = False) -> dict:
     """A parameter field's metadata: its help and unit, and its choices, named values
-    (``{"closure": -1.0}``) or bound, as the CLI and :func:`check_bounds` read them."""
+    (``{"closure": -1.0}``) or bound, as the CLI and :func:`check_bounds` read them. For a
+    sweep's point digest (:func:`bcfem.run.sweep.point_key`): ``budget``, a solver budget (it
+    decides whether a point gets through, not its result: left out); ``later``, added after
+    the stored maps were solved (left out at its default, so that their points stay valid)."""
     return {"help": text, "unit": unit, **({"choices": choices} if choices else {}),
-            **({"words": words} if words else {}), **({"bound": bound} if bound else {})}
+            **({"words": words} if words else {}), **({"bound": bound} if bound else {}),
+            **({"budget": True} if budget else {}), **({"later": True} if later else {})}
 
 
 @contextmanager

@@ -42,7 +42,7 @@ def parameters():
             value = getattr(defaults, f.name)
             if dataclasses.is_dataclass(value) or f.metadata.get("unit") == "path":
                 continue  # a file's checks are the scene's own tests
-            choices = f.metadata.get("choices", getattr(params, "CHOICES", {}).get(f.name))
+            choices = f.metadata.get("choices")
             yield scene, f.name, bound_of(params, f.name) or list(choices or [])
 
 

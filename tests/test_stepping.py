@@ -10,6 +10,7 @@ class Quadratic:
     """A stand-in for Problem: the state follows the load exactly (u = load)."""
 
     iterations = 1
+    rejections = 0  # converged states a term vetoed (Problem's count)
 
     def __init__(self):
         self.timings = {"stability": 0.0}

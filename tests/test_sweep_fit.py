@@ -70,7 +70,7 @@ def test_a_failed_point_is_recorded_not_dropped(tmp_path):
 
 
 def test_a_larger_budget_retries_only_the_points_that_ran_out(tmp_path):
-    """Solver budgets (``Params.BUDGETS``) stay out of a point's key: a solved point is
+    """Solver budgets (fields marked ``budget``) stay out of a point's key: a solved point is
     reused whatever the budget; a failed one is solved again once the budget has grown."""
     from bcfem.scenes import crater
 

@@ -135,7 +135,7 @@ class LoadPath:
         first = step
         smallest = step * 0.5**self.cuts
         relax_failed_from = None
-        rejections = getattr(self.problem, "rejections", 0)
+        rejections = self.problem.rejections
         while (target - current) * direction > 0:
             trial = current + direction * min(step, abs(target - current))
             # the problem's line-search fallbacks only once cutting the step has not helped:
@@ -169,7 +169,7 @@ class LoadPath:
                 step *= 0.5
                 if step < smallest:
                     self.set_load(current)
-                    rejected = getattr(self.problem, "rejections", 0) - rejections
+                    rejected = self.problem.rejections - rejections
                     raise SteppingError(
                         f"{self.stage}: no converged state beyond {current:.5g} towards {target:.5g} "
                         f"after {self.cuts} cut-backs and relaxation ({self.problem.failure})"

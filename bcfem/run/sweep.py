@@ -95,17 +95,17 @@ def parse_range(name: str, spec: str) -> np.ndarray:
 
 def point_key(values: dict, params=None) -> str:
     """File name of a point: its grid values, plus a digest of every other parameter, so a
-    rerun with different settings never reuses stale points. Solver budgets (the params'
-    ``BUDGETS``) are left out: they decide whether a point gets through, not its result, and
-    so is a parameter of the params' ``LATER`` (added after maps were solved) at its default,
-    so that the points solved before it came stay valid."""
+    rerun with different settings never reuses stale points. Solver budgets are left out: they
+    decide whether a point gets through, not its result, and so is a parameter added after the
+    maps were solved, at its default, so that the points solved before it came stay valid (the
+    fields' ``budget`` and ``later`` metadata, :func:`bcfem.params.describe`)."""
     key = "_".join(f"{k}={v if isinstance(v, str) else format(v, '.12g')}" for k, v in sorted(values.items()))
     if params is None:
         return key
     import hashlib
 
-    budgets = getattr(params, "BUDGETS", ())
-    later = {f.name: f.default for f in dataclasses.fields(params) if f.name in getattr(params, "LATER", ())}
+    budgets = _budgets(params)
+    later = {f.name: f.default for f in dataclasses.fields(params) if f.metadata.get("later")}
     settings = {k: v for k, v in dataclasses.asdict(params).items()
                 if k not in values and k not in budgets and not (k in later and v == later[k])}
     digest = hashlib.sha1(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()[:10]
@@ -157,7 +157,8 @@ def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
     return points
 
 def _budgets(params) -> dict:
-    return {k: getattr(params, k) for k in getattr(params, "BUDGETS", ())}
+    """The solver budgets of ``params`` (its fields marked ``budget``) and their values."""
+    return {f.name: getattr(params, f.name) for f in dataclasses.fields(params) if f.metadata.get("budget")}
 
 
 def _rerun(row: dict, budgets: dict, retry_failed: bool) -> bool:

@@ -18,7 +18,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, fields, replace
-from typing import ClassVar
 
 import numpy as np
 import ufl
@@ -26,7 +25,7 @@ from dolfinx import fem
 
 from bcfem.kinematics.membrane import AxisymmetricMembrane
 from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, global_sum, real_value, sample
-from bcfem.params import Bound, ContinuationParams, check_bounds, require
+from bcfem.params import Bound, ContinuationParams, check_bounds, describe, require
 from bcfem.path.continuation import Switch
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension
@@ -99,31 +98,28 @@ class Params:
         continuation: step control.
     """
 
-    material: str = "gent"
-    Jm: float = 100.0
-    alpha: float = 0.0
-    v_max: float = 6.0
-    v_start: float = 0.01
-    cells: int = 200
-    degree: int = 2
-    stiffness: float = 1.0
-    edge: str = "clamped"
-    phi_Y_deg: float = 135.0
-    adhesion: float | RadialProfile = field(default=2.5, metadata={"parse": parse_profile})
-    outer_radius: float = 4.0
-    far_field: float = 0.0
-    stop_radius: float = math.inf
-    start_volume: float = 0.0
+    material: str = field(default="gent", metadata=describe(HELP["material"], choices=sorted(MATERIALS)))
+    Jm: float = field(default=100.0, metadata=describe(HELP["Jm"], bound=Bound(1e-2, 1e6)))
+    alpha: float = field(default=0.0, metadata=describe(HELP["alpha"], bound=Bound(0, 1e8)))
+    v_max: float = field(default=6.0, metadata=describe(HELP["v_max"], bound=Bound(0, 1e3, open_low=True)))
+    v_start: float = field(default=0.01, metadata=describe(HELP["v_start"],
+                                                           bound=Bound(0, 1e3, open_low=True, open_high=True)))
+    cells: int = field(default=200, metadata=describe(HELP["cells"], bound=Bound(2, 20_000, integer=True)))
+    degree: int = field(default=2, metadata=describe(HELP["degree"], bound=Bound(1, 4, integer=True)))
+    stiffness: float = field(default=1.0, metadata=describe(HELP["stiffness"], bound=Bound(1e-8, 1e6)))
+    edge: str = field(default="clamped", metadata=describe(HELP["edge"], choices=sorted(EDGES)))
+    phi_Y_deg: float = field(default=135.0, metadata=describe(HELP["phi_Y_deg"],
+                                                              bound=Bound(0, 180, open_low=True, open_high=True)))
+    adhesion: float | RadialProfile = field(
+        default=2.5, metadata={"parse": parse_profile, **describe(HELP["adhesion"], bound=Bound(-1e8, 1e8))})
+    outer_radius: float = field(default=4.0, metadata=describe(HELP["outer_radius"],
+                                                               bound=Bound(1, 1e3, open_low=True, open_high=True)))
+    far_field: float = field(default=0.0, metadata=describe(HELP["far_field"], bound=Bound(-1e8, 1e8)))
+    stop_radius: float = field(default=math.inf, metadata=describe(
+        HELP["stop_radius"], bound=Bound(1, 1e3, open_low=True, also=(math.inf,))))
+    start_volume: float = field(default=0.0, metadata=describe(HELP["start_volume"], bound=Bound(0, 1e3)))
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds_max=0.1))
 
-    CHOICES: ClassVar[dict] = {"material": sorted(MATERIALS), "edge": sorted(EDGES)}
-    BOUNDS: ClassVar[dict] = {
-        "Jm": Bound(1e-2, 1e6), "alpha": Bound(0, 1e8), "v_max": Bound(0, 1e3, open_low=True),
-        "v_start": Bound(0, 1e3, open_low=True, open_high=True), "cells": Bound(2, 20_000, integer=True),
-        "degree": Bound(1, 4, integer=True), "stiffness": Bound(1e-8, 1e6),
-        "phi_Y_deg": Bound(0, 180, open_low=True, open_high=True), "adhesion": Bound(-1e8, 1e8),
-        "outer_radius": Bound(1, 1e3, open_low=True, open_high=True), "far_field": Bound(-1e8, 1e8),
-        "stop_radius": Bound(1, 1e3, open_low=True, also=(math.inf,)), "start_volume": Bound(0, 1e3)}
 
     def __post_init__(self):
         check_bounds(self)

@@ -109,6 +109,11 @@ class MembraneScene(BranchScene):
     stages = ("branch", "stability", "broken", "front")
 
     def __post_init__(self):
+        #: what the figures and tables draw, kept by the solve: the broken branch's rows, the last
+        #: state's surface, the front's release rates on the outline
+        self._broken: list[dict] | None = None
+        self._surface: tuple | None = None
+        self._outline: tuple | None = None
         if self.columns is not None and "unstable_modes" not in self.columns:
             self.columns = [*self.columns[:-1], "unstable_modes", self.columns[-1]]
 
@@ -178,16 +183,16 @@ class MembraneScene(BranchScene):
                if key in last}}
 
     def tables(self, rows, summary) -> dict[str, list[dict]]:
-        return {"broken.csv": self._broken} if getattr(self, "_broken", None) else {}
+        return {"broken.csv": self._broken} if self._broken else {}
 
     def figures(self, rows, summary) -> dict:
         figures = super().figures(rows, summary)
-        if getattr(self, "_surface", None):  # the last state solved: the broken branch's, if followed
-            broken = getattr(self, "_broken", None)
+        if self._surface:  # the last state solved: the broken branch's, if followed
+            broken = self._broken
             last, which = (broken[-1], " (broken branch)") if broken else (rows[-1], "")
             figures["membrane.png"] = membrane_figure(
                 self._surface, f"{self.name}{which}: V/V0 = {last['V_over_V0']:.3g}, P = {last['P']:.4g}")
-        if getattr(self, "_outline", None):
+        if self._outline:
             last = rows[-1]
             figures["release.png"] = release_figure(
                 *self._outline, f"V/V0 = {last['V_over_V0']:.4g}, P = {last['P']:.4g}")

@@ -7,10 +7,9 @@ mu_f t0 R0^2 (mu_f t0: the membrane's shear modulus times its thickness).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar
 
 from bcfem.geometry.substrate import SubstrateGeometry
-from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, flags_named, require
+from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, describe, flags_named, require
 from bcfem.physics.materials import MATERIALS
 from bcfem.radial_profile import WIDTH, RadialProfile, check_resolved
 from bcfem.radial_profile import parse as parse_profile
@@ -110,32 +109,26 @@ class Params:
         continuation: step control.
     """
 
-    material: str = "neo-hookean"
-    Jm: float = 100.0
-    stiffness_ratio: float = 1.0
-    alpha: float = 0.5
-    gamma_ls: float = 0.5
-    delta_gamma: float | RadialProfile = field(default=0.5, metadata={"parse": parse_profile})
-    edge: str = "bonded"
-    size_factor: float = 10.0
-    v_max: float = 3.0
-    v_start: float = 0.05
-    size_contact: float = 0.01
-    size_far: float = 0.0
-    growth: float = 1.25
-    size_wetted: float = 0.05
-    refine: int = 0
-    kappa_ratio: float = 1e4
+    material: str = field(default="neo-hookean", metadata=describe(HELP["material"], choices=sorted(MATERIALS)))
+    Jm: float = field(default=100.0, metadata=describe(HELP["Jm"], bound=Bound(1e-2, 1e6)))
+    stiffness_ratio: float = field(default=1.0, metadata=describe(HELP["stiffness_ratio"], bound=Bound(1e-3, 1e6)))
+    alpha: float = field(default=0.5, metadata=describe(HELP["alpha"], bound=Bound(0, 1e6)))
+    gamma_ls: float = field(default=0.5, metadata=describe(HELP["gamma_ls"], bound=Bound(0, 1e6)))
+    delta_gamma: float | RadialProfile = field(
+        default=0.5, metadata={"parse": parse_profile, **describe(HELP["delta_gamma"], bound=Bound(0, 1e6))})
+    edge: str = field(default="bonded", metadata=describe(HELP["edge"], choices=list(EDGES)))
+    size_factor: float = field(default=10.0, metadata=describe(HELP["size_factor"], bound=Bound(1, 100, open_low=True)))
+    v_max: float = field(default=3.0, metadata=describe(HELP["v_max"], bound=Bound(0, 1e3, open_low=True)))
+    v_start: float = field(default=0.05, metadata=describe(HELP["v_start"],
+                                                           bound=Bound(0, 1e3, open_low=True, open_high=True)))
+    size_contact: float = field(default=0.01, metadata=describe(HELP["size_contact"], bound=Bound(1e-4, 0.5)))
+    size_far: float = field(default=0.0, metadata=describe(HELP["size_far"], bound=Bound(1e-3, 100, also=(0.0,))))
+    growth: float = field(default=1.25, metadata=describe(HELP["growth"], bound=Bound(1, 2, open_low=True)))
+    size_wetted: float = field(default=0.05, metadata=describe(HELP["size_wetted"], bound=Bound(1e-4, 1, also=(0.0,))))
+    refine: int = field(default=0, metadata=describe(HELP["refine"], bound=Bound(0, 6, integer=True)))
+    kappa_ratio: float = field(default=1e4, metadata=describe(HELP["kappa_ratio"], bound=Bound(10, 1e8)))
     continuation: ContinuationParams = field(default_factory=lambda: ContinuationParams(ds=0.02, ds_max=0.05))
 
-    CHOICES: ClassVar[dict] = {"material": sorted(MATERIALS), "edge": list(EDGES)}
-    BOUNDS: ClassVar[dict] = {
-        "Jm": Bound(1e-2, 1e6), "stiffness_ratio": Bound(1e-3, 1e6), "alpha": Bound(0, 1e6),
-        "gamma_ls": Bound(0, 1e6), "delta_gamma": Bound(0, 1e6), "size_factor": Bound(1, 100, open_low=True),
-        "v_max": Bound(0, 1e3, open_low=True), "v_start": Bound(0, 1e3, open_low=True, open_high=True),
-        "size_contact": Bound(1e-4, 0.5), "size_far": Bound(1e-3, 100, also=(0.0,)),
-        "growth": Bound(1, 2, open_low=True),
-        "size_wetted": Bound(1e-4, 1, also=(0.0,)), "refine": Bound(0, 6, integer=True), "kappa_ratio": Bound(10, 1e8)}
 
     def __post_init__(self):
         check_bounds(self)

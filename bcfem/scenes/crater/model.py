@@ -69,7 +69,7 @@ class Crater:
         self.geometry = geometry
         data = self.create_mesh(geometry, comm)
         msh, facets = data.mesh, data.facet_tags
-        element = ELEMENTS[getattr(params, "element", "p2p1")]
+        element = ELEMENTS[params.element]
         V = fem.functionspace(msh, ("Lagrange", element.displacement, (2,)))
         self.u = fem.Function(V, name="displacement")
         self.ctx = Context(self.u)
@@ -81,7 +81,7 @@ class Crater:
         self._wall = (Vz.tabulate_dof_coordinates()[wall], np.asarray(zmap).reshape(-1)[wall],
                       np.asarray(rmap).reshape(-1)[wall])
         #: the bottom face in unilateral contact with the plate (else held on it)
-        self.bottom_contact = getattr(params, "bottom", "held") == "contact"
+        self.bottom_contact = params.bottom == "contact"
         bottom = fem.locate_dofs_topological(Vz, 1, facets.find(BOTTOM)) if self.bottom_contact else wall[:0]
         self._bottom = (Vz.tabulate_dof_coordinates()[bottom], np.asarray(zmap).reshape(-1)[bottom],
                         np.asarray(rmap).reshape(-1)[bottom])
@@ -149,7 +149,7 @@ class Crater:
     def _lift(self, V, comm):
         """None, or the UFL vector added to u in the kinematics: the platen's with ``path =
         fundamental`` (a subclass may add its own)."""
-        if getattr(self.params, "path", "stable") != "fundamental":
+        if self.params.path != "fundamental":
             return None
         self.platen_state = self.ctx.real_state("platen_displacement")
         return ufl.as_vector([0, self.platen_state * self._platen_shape(V.sub(1).collapse()[0], comm)])

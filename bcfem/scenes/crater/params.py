@@ -152,32 +152,28 @@ class Params:
         "the bottom face on the plate: held (u_z = 0, sliding freely: ambient pressure holds a sealed "
         "interface down) or contact (frictionless unilateral contact, free to lift off: the "
         "dissertation's model; the suction area is then the one the sealed contact line encloses)",
-        choices=BOTTOMS))
+        choices=BOTTOMS, later=True))
     retract: float = field(default=0.0, metadata=describe(
         "after unloading, lift the platen on to eps = -retract (past the specimen's original height; "
         "stage 'retract', --bottom contact): the suction force, p and A along the way, and pull-off "
-        "where the seal opens or the platen's pull peaks; 0: no retraction", "1", bound=Bound(0, 0.5)))
+        "where the seal opens or the platen's pull peaks; 0: no retraction", "1", bound=Bound(0, 0.5), later=True))
     cavitation: float = field(default=-math.inf, metadata=describe(
         "p_v / p_a: a liquid whose pressure falls to it on unloading cavitates and holds it, its "
         "volume free, until the vapour collapses; a crater closed on loading holds vapour from the "
         "seal (water at 20 C: 0.023); -inf: no cavitation, the liquid takes any tension and a closed "
         "crater stays closed; not used for air", "1",
-        bound=Bound(-1e3, 1, open_high=True, also=(-math.inf,))))
+        bound=Bound(-1e3, 1, open_high=True, also=(-math.inf,)), later=True))
     element: str = field(default="p2p1", metadata=describe(
         "the solid's elements: p2p1 (Taylor-Hood: quadratic displacement, linear pressure, on curved "
         "triangles) or q1p0 (bilinear displacement, a constant pressure per cell, on straight-sided "
         "quadrilaterals: the analogue of Abaqus's CAX4H, the dissertation's element)",
-        choices=tuple(ELEMENTS)))
+        choices=tuple(ELEMENTS), later=True))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage; a path that "
-        "snaps more often fails (a deepening crease)", bound=Bound(0, 1000, integer=True)))
+        "snaps more often fails (a deepening crease)", bound=Bound(0, 1000, integer=True), budget=True))
 
     #: solver budgets: they decide whether a path gets through, never where it goes, so a
     #: sweep reuses a solved point whatever its budget (and retries one that ran out)
-    BUDGETS = ("max_snaps",)
-    #: parameters added after the maps of docs/figures were solved: a sweep point's digest leaves
-    #: them out at their default (:func:`bcfem.run.sweep.point_key`), so those points stay valid
-    LATER = ("bottom", "retract", "cavitation", "element")
 
     def __post_init__(self):
         check_bounds(self)

@@ -92,9 +92,8 @@ class Params:
         "factorise; summary.json then says 'not checked')", "", ("inertia", "none")))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage", "",
-        bound=Bound(0, 1000, integer=True)))
+        bound=Bound(0, 1000, integer=True), budget=True))
 
-    BUDGETS = ("max_snaps",)
 
     def __post_init__(self):
         check_bounds(self)

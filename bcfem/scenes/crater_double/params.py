@@ -101,38 +101,39 @@ class Params:
         "the bottom face on the plate: held (u_z = 0: ambient pressure holds a sealed interface down) or "
         "contact (unilateral, free to lift off, the dissertation's model: the gap under a lifted rim "
         "joins C1, whose wetted area is then the one the sealed contact line encloses); with --plate "
-        "sticking the face keeps its radius, on the plate and where it lifts", "", BOTTOMS))
+        "sticking the face keeps its radius, on the plate and where it lifts", "", BOTTOMS, later=True))
     chambers: str = field(default="split", metadata=describe(
         "split: one cavity until the sidewall touches the protuberance, then two (exact); membrane: the "
         "dissertation's model (sec. 9.2), two chambers from eps = 0 divided by a virtual membrane between "
         "a sidewall node and a protuberance node, the gas exchanged by eq. 9.1 at --exchange-before "
         "until --switch-strain and at --exchange-after from there and in unloading (air sealed at rest)",
-        "", CHAMBERS))
+        "", CHAMBERS, later=True))
     exchange_before: float = field(default=0.01, metadata=describe(
         "C_V of eq. 9.1, (p_c1 - p_c2) A = C_V dm/dt, while loading below --switch-strain (--chambers "
         "membrane); normalised: pressures over p_a, gas masses m = p V over p_a H^3, A = H^2, t the "
         "step's pseudo-time eps/preload (loading) or (preload - eps)/preload (unloading); small: "
-        "connected, 0: one cavity, inf: no exchange", bound=Bound(0, 1e12, also=(math.inf,))))
+        "connected, 0: one cavity, inf: no exchange", bound=Bound(0, 1e12, also=(math.inf,)), later=True))
     exchange_after: float = field(default=1e4, metadata=describe(
         "C_V of eq. 9.1 from --switch-strain on and in unloading (--chambers membrane); large: "
-        "disconnected, inf: no exchange", bound=Bound(0, 1e12, also=(math.inf,))))
+        "disconnected, inf: no exchange", bound=Bound(0, 1e12, also=(math.inf,)), later=True))
     switch_strain: float = field(default=AUTO, metadata=describe(
         "eps_a, where C_V switches (--chambers membrane); auto: found on a first run with the exact "
         "split, where the membrane's nodes first touch or come closest while loading to the preload",
-        words={"auto": AUTO}, bound=Bound(0, 0.9, open_high=True, also=(AUTO,), spelled=("auto",))))
+        words={"auto": AUTO}, bound=Bound(0, 0.9, open_high=True, also=(AUTO,), spelled=("auto",)), later=True))
     membrane_sidewall: float = field(default=AUTO, metadata=describe(
         "Z_w / H of the membrane's sidewall node (Node-2, snapped to a mesh vertex); auto: with "
         "--membrane-protuberance auto, the pair of vertices that first touch or come closest on the "
         "first run (the dissertation's closest nodes at eps_a)",
-        words={"auto": AUTO}, bound=Bound(0, 1, open_low=True, open_high=True, also=(AUTO,), spelled=("auto",))))
+        words={"auto": AUTO}, bound=Bound(0, 1, open_low=True, open_high=True, also=(AUTO,), spelled=("auto",)),
+        later=True))
     membrane_protuberance: float = field(default=AUTO, metadata=describe(
         "Z_b / H of the membrane's protuberance node (Node-1, snapped to a mesh vertex); auto: see "
         "--membrane-sidewall", words={"auto": AUTO},
-        bound=Bound(0, 1, open_low=True, open_high=True, also=(AUTO,), spelled=("auto",))))
+        bound=Bound(0, 1, open_low=True, open_high=True, also=(AUTO,), spelled=("auto",)), later=True))
     membrane_stiffness: float = field(default=1e-6, metadata=describe(
         "mu_m t / (mu H): the membrane's modulus times its thickness (a ring membrane, Saint "
         "Venant-Kirchhoff, Poisson's ratio 0); 0: a massless, stiffness-free divider",
-        bound=Bound(0, 1)))
+        bound=Bound(0, 1), later=True))
     top: str = field(default="sliding", metadata=describe(
         "the top face on the platen: sliding (frictionless) or bonded (no slip: a specimen on a rigid "
         "backing)", "", TOPS))
@@ -170,20 +171,20 @@ class Params:
         "platen strain between checkpoints (failed steps are halved)", bound=Bound(1e-3, 0.1)))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage", "",
-        bound=Bound(0, 1000, integer=True)))
+        bound=Bound(0, 1000, integer=True), budget=True))
     waves: int = field(default=0, metadata=describe(
         "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step, "
         "0: off", "", bound=Bound(0, 400, integer=True)))
 
-    #: no lining (the crater model's reinforcement layer)
+    #: what the crater model reads that this scene fixes: no lining (its reinforcement layer),
+    #: Taylor-Hood elements, the stable path
     layer_thickness: ClassVar[float] = 0.0
     layer_stiffness: ClassVar[float] = 1.0
-    BUDGETS: ClassVar[tuple] = ("max_snaps",)
-    #: parameters added after the maps were solved: left out of a sweep point's digest at their default
-    LATER: ClassVar[tuple] = ("bottom", "chambers", "exchange_before", "exchange_after", "switch_strain",
-                              "membrane_sidewall", "membrane_protuberance", "membrane_stiffness")
+    element: ClassVar[str] = "p2p1"
+    path: ClassVar[str] = "stable"
     #: the membrane model's own parameters
-    MEMBRANE: ClassVar[tuple] = LATER[2:]
+    MEMBRANE: ClassVar[tuple] = ("exchange_before", "exchange_after", "switch_strain", "membrane_sidewall",
+                                 "membrane_protuberance", "membrane_stiffness")
 
     def __post_init__(self):
         check_bounds(self)
