@@ -146,7 +146,7 @@ def test_crater():
     assert_twice_beta(crater, params, ["eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde"])
 
 
-@pytest.mark.slow
+@pytest.mark.study  # a minute of 3-D cycles; the staged scenes' path is the crater's, checked in CI
 def test_crater_cell():
     params = crater_cell.Params(crater_radius=1.0, specimen_height=10.0, filling=0.01, size_wall=0.5, size_far=5.0,
                                 preload=0.05, strain_step=0.05)

@@ -67,7 +67,34 @@ def two_zone(front, outer: float):
     return reference
 
 
-class AxisymmetricMembrane:
+class Meridian:
+    """The densities of an axisymmetric meridian, shared by a membrane on its own mesh
+    (:class:`AxisymmetricMembrane`) and one on a solid's boundary
+    (:class:`bcfem.kinematics.surfaces.MembraneSurface`): each sets ``lam_r``, ``lam_theta``,
+    ``r`` and ``dz``."""
+
+    lam_r: Any
+    lam_theta: Any
+    r: Any
+    dz: Any
+
+    @property
+    def area_stretch(self):
+        """Current area per reference area, lambda_r lambda_theta."""
+        return self.lam_r * self.lam_theta
+
+    @property
+    def volume_density(self):
+        r"""Enclosed volume per reference area.
+
+        :math:`V = -\int \pi r^2 z' \, dR` (the volume between the membrane and
+        the plane z = 0, valid for overhanging profiles too); per reference area
+        :math:`2\pi R\,dR` that is :math:`-\lambda_\theta r z'/2`.
+        """
+        return -0.5 * self.lam_theta * self.r * self.dz
+
+
+class AxisymmetricMembrane(Meridian):
     """Stretches, area and enclosed volume of an axisymmetric membrane.
 
     Args:
@@ -121,22 +148,8 @@ class AxisymmetricMembrane:
         return self.integral(density / self.reference_area)
 
     @property
-    def area_stretch(self):
-        """Current area per reference area, lambda_r lambda_theta."""
-        return self.lam_r * self.lam_theta
-
-    @property
     def projected_area_density(self):
         """The current surface's area projected on the plane z = 0, per reference area:
         2 pi r r' dR over 2 pi R dR = lambda_theta r'."""
         return self.lam_theta * self.dr
 
-    @property
-    def volume_density(self):
-        r"""Enclosed volume per reference area.
-
-        :math:`V = -\int \pi r^2 z' \, dR` (the volume between the membrane and
-        the plane z = 0, valid for overhanging profiles too); per reference area
-        :math:`2\pi R\,dR` that is :math:`-\lambda_\theta r z'/2`.
-        """
-        return -0.5 * self.lam_theta * self.r * self.dz

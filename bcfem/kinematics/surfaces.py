@@ -38,10 +38,10 @@ import math
 
 import ufl
 
-from bcfem.kinematics.membrane import AxisymmetricMembrane
+from bcfem.kinematics.membrane import Meridian
 
 
-class MembraneSurface:
+class MembraneSurface(Meridian):
     """A membrane (or an interface) lying on the top facets ``tag`` of an axisymmetric solid.
 
     Args:
@@ -93,10 +93,6 @@ class MembraneSurface:
     def mean(self, density):
         """The reference-area mean of ``density`` over the surface, as a form."""
         return self.integral(density / self.reference_area)
-
-    # the same stretch and enclosed-volume densities as a membrane on its own mesh
-    area_stretch = AxisymmetricMembrane.area_stretch
-    volume_density = AxisymmetricMembrane.volume_density
 
 
 class LiquidGap:
