@@ -39,14 +39,11 @@ def null_pivots(A: PETSc.Mat, prefix: str) -> int:
             opts.delValue(prefix + key)
 
 
-def of_tangent(snes: PETSc.SNES, prefix: str) -> int:
-    """The null pivots of ``snes``'s current tangent, where its own solver is MUMPS' LU or LDLᵀ
-    (one more factorisation); 0 for an iterative or a reduced (variational-inequality) solve,
-    which has no factorisation to spare (collective)."""
+def direct(snes: PETSc.SNES) -> bool:
+    """Whether ``snes`` solves with MUMPS' LU or LDLᵀ: a problem that factorises anyway can spare one
+    more factorisation; an iterative or a reduced (variational-inequality) solve is not counted."""
     pc = snes.getKSP().getPC()
-    if pc.getType() not in ("lu", "cholesky") or pc.getFactorSolverType() != "mumps":
-        return 0
-    return null_pivots(snes.getJacobian()[0], prefix + "pivots_")
+    return pc.getType() in ("lu", "cholesky") and pc.getFactorSolverType() == "mumps"
 
 
 def warning(prefix: str, count: int) -> str:

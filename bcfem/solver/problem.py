@@ -258,12 +258,17 @@ class Problem(ConvergedAlgebra):
         return ok
 
     def _check_pivots(self) -> None:
-        """Count the tangent's null pivots once, at the first converged state (:mod:`.pivots`)."""
-        if self.null_pivots is None:
-            with self.timed("stability"):
-                self.null_pivots = pivots.of_tangent(self.snes, self.prefix)
-            if self.null_pivots:
-                logger.warning(pivots.warning(self.prefix, self.null_pivots))
+        """Count the tangent's null pivots once, at the first state converged by a Newton step (its
+        tangent assembled on the way; :mod:`.pivots`)."""
+        if self.null_pivots is not None or self.iterations == 0:
+            return
+        if not pivots.direct(self.snes):
+            self.null_pivots = 0  # no factorisation to spare
+            return
+        with self.timed("stability"):
+            self.null_pivots = pivots.null_pivots(self.snes.getJacobian()[0], self.prefix + "pivots_")
+        if self.null_pivots:
+            logger.warning(pivots.warning(self.prefix, self.null_pivots))
 
     @property
     def failure(self) -> str:
