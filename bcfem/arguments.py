@@ -125,10 +125,11 @@ def compiling(params_cls) -> str:
               if not dataclasses.is_dataclass(getattr(defaults, f.name))
               and (f.metadata.get("choices")
                    or type(getattr(defaults, f.name)) in (bool, int, str))]
-    return textwrap.fill("Compiling: every number reaches the forms as a constant, so a new value compiles no form "
+    text = ("Compiling: every number reaches the forms as a constant, so a new value compiles no form "
             "(a number that is 0 may leave its term out, another form). These select the forms, the "
             "elements or the mesh, and a new value may compile forms once (FFCx's cache keeps them): "
-            + (", ".join(chosen) or "none") + ".", 80)
+            + (", ".join(chosen) or "none") + ".")
+    return textwrap.fill(text, 80, break_on_hyphens=False)
 
 
 def _words_or(words: dict, convert):

@@ -360,6 +360,17 @@ def test_material_validation_names_the_parameter(kwargs, word):
         Gent(**kwargs)
 
 
+@pytest.mark.parametrize("kwargs, word", [({"C1": 0.0}, "C1"), ({"C2": -0.1}, "C2"), ({"C1": math.inf}, "C1")])
+def test_mooney_rivlin_validation_names_the_parameter(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        MooneyRivlin(**kwargs)
+
+
+def test_a_kinematics_without_i2_is_refused_by_mooney_rivlin():
+    with pytest.raises(ValueError, match="I2"):
+        MooneyRivlin().strain_energy(3.0)
+
+
 
 
 

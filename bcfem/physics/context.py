@@ -107,9 +107,9 @@ class Context:
         """``owner`` (a frozen dataclass: a term, a material) as its forms see it: a copy whose
         fields declared ``float`` are ``fem.Constant`` s of this instance. Changing a value then
         never recompiles a form; two instances of one class are two sets of constants, whatever
-        their values. The same instance
-        gets the same constants on every request (every stage, every derived context). A term
-        asks for a part's parameters itself (``ctx.parameters(self.material)``).
+        their values. The same instance gets the same constants on every request (every stage,
+        every derived context). A term asks for a part's parameters itself
+        (``ctx.parameters(self.material)``).
 
         Args:
             owner: the instance whose parameters these are.

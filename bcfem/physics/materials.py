@@ -1,4 +1,4 @@
-"""Hyperelastic strain-energy densities, as functions of the first invariant.
+"""Hyperelastic strain-energy densities, as functions of the first two invariants.
 
 A material is only a strain energy: a frozen, validated dataclass whose
 ``strain_energy(I1, I2)`` returns a UFL expression (energy per unit reference
@@ -100,11 +100,6 @@ def _derivative(energy, x):
 
     lowered = apply_algebra_lowering.apply_algebra_lowering(ufl.diff(energy, x))
     return strip_variables(apply_derivatives.apply_derivatives(lowered))
-
-
-def slope(material, I1):
-    r""":math:`\partial W/\partial I_1` of a material of I1 alone at ``I1``."""
-    return slopes(material, I1, None)[0]
 
 
 def slopes(material, I1, I2):
