@@ -12,6 +12,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
+from bcfem.columns import help_text
 from bcfem.params import Bound, bound_of, flag
 
 
@@ -20,7 +21,8 @@ class _Parser(argparse.ArgumentParser):
     as typed (flags are never abbreviated), exit code 2."""
 
     def __init__(self, *args, **kwargs):
-        super().__init__(*args, allow_abbrev=False, **kwargs)
+        kwargs["allow_abbrev"] = False
+        super().__init__(*args, **kwargs)
 
     def _print_message(self, message, file=None):
         if MPI.COMM_WORLD.rank == 0:
@@ -99,8 +101,8 @@ def _add_params(parser, params_cls, ranges: bool = False) -> None:
         unit = f.metadata.get("unit", "")
         unit = f" [{unit}]" if unit not in ("", "1") else ""
         bound = bound_of(params_cls, f.name)
-        bound = f"; {bound}" if bound else ""
-        kwargs = {"default": default, "help": f"{text}{unit}{bound} (default: {default})"}
+        within = f"; {bound}" if bound else ""
+        kwargs = {"default": default, "help": f"{text}{unit}{within} (default: {default})"}
         choices = f.metadata.get("choices")
         if choices:
             kwargs["choices"] = list(choices)
@@ -153,7 +155,8 @@ def build_parser():
     scenes = run.add_subparsers(dest="scene", required=True, metavar="SCENE", parser_class=_Parser)
     for name, module in REGISTRY.items():
         p = scenes.add_parser(name, help=module.SUMMARY, description=module.DESCRIPTION,
-                              epilog=compiling(module.Params), formatter_class=argparse.RawDescriptionHelpFormatter)
+                              epilog=f"{help_text(module.COLUMNS)}\n\n{compiling(module.Params)}",
+                              formatter_class=argparse.RawDescriptionHelpFormatter)
         _add_params(p, module.Params)
         p.add_argument("--out", type=Path, default=Path("results") / name, help="results directory")
         p.add_argument("--quiet", action="store_true", help="no progress line")
@@ -196,7 +199,7 @@ def build_parser():
 def _negative_values_attached(argv: list[str]) -> list[str]:
     """``--adhesion -1e4`` as ``--adhesion=-1e4``: argparse takes only ``-1`` and ``-.5`` for
     negative numbers, and ``-1e4`` or ``-inf`` for a flag."""
-    out = []
+    out: list[str] = []
     for token in argv:
         if out and out[-1].startswith("--") and "=" not in out[-1] and token.startswith("-") and _number(token):
             out[-1] = f"{out[-1]}={token}"

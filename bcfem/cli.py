@@ -154,7 +154,8 @@ def _sweep(parser, args, module, params, comm) -> int:
         if len(varying) == 1:
             sweep.curves(rows, varying[0], studies.SWEEP["maps"], title, args.out / plot, comm)
         elif len(varying) == 2:
-            sweep.contour_maps(rows, *varying, studies.SWEEP["maps"], title, args.out / plot, comm)
+            x, y = varying
+            sweep.contour_maps(rows, x, y, studies.SWEEP["maps"], title, args.out / plot, comm)
     failures = sweep.failures(rows)
     if comm.rank == 0:
         failed = sum(failures.values())

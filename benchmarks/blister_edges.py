@@ -41,7 +41,6 @@ import sys  # noqa: E402
 from common import (  # noqa: E402
     ROOT,
     atomic_text,
-    count_newton,
     cpu_name,
     csv_text,
     emit,
@@ -88,11 +87,10 @@ def worker(case: dict) -> dict:
 
     worker_prologue()
     from bcfem.path.continuation import ContinuationError
-    from bcfem.run.trace import branch_of
+    from bcfem.run.trace import trace
     from bcfem.scenes import blister_rigid, blister_studies
 
     t_import = time.perf_counter() - T_START
-    count, _ = count_newton()
     fields, bracket, _ = CASES[case["case"]]
     fields = {**fields, **case.get("fields", {})}
     t1, c1 = time.perf_counter(), time.process_time()
@@ -100,7 +98,9 @@ def worker(case: dict) -> dict:
     out = {**case, "t_import": t_import, "status": "ok", "reason": ""}
     try:
         if case["method"] == "event":
-            branch = branch_of(blister_rigid.build(params, MPI.COMM_WORLD))
+            branch, problem = trace(blister_rigid.build(params, MPI.COMM_WORLD))
+            its = problem.newton_iterations
+            problem.close()
             onset = next((e for e in branch.events if e["name"] == "delamination onset"), None)
             if onset is None:
                 raise ContinuationError(f"no onset up to V/V0 = {params.v_max}")
@@ -109,10 +109,12 @@ def worker(case: dict) -> dict:
                        V_start=start["V_over_V0"], N_theta_min=min(r["N_theta_min"] for r in branch.rows))
         else:
             onset = blister_studies.onset_by_energy(params, MPI.COMM_WORLD, bracket=bracket)
+            its = onset["newton_iterations"]
             out.update(Vc=onset["V_over_V0"], Pc=onset["P"])
     except Exception as error:  # recorded: the slippery start study wants the message
         out.update(status="failed", reason=f"{type(error).__name__}: {error}")
-    out.update(t_solve=time.perf_counter() - t1, c_solve=time.process_time() - c1, its=count["its"],
+        its = None
+    out.update(t_solve=time.perf_counter() - t1, c_solve=time.process_time() - c1, its=its,
                dofs=2 * (params.degree * params.cells * (2 if params.edge == "slippery" else 1) + 1) + 2)
     return out
 

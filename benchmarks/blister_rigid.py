@@ -45,7 +45,6 @@ from pathlib import Path  # noqa: E402
 from common import (  # noqa: E402
     ROOT,
     atomic_text,
-    count_newton,
     cpu_name,
     csv_text,
     emit,
@@ -94,8 +93,6 @@ def worker(case: dict) -> dict:
 
     t_import = time.perf_counter() - t0 + (t0 - T_START)
 
-    count, _ = count_newton()
-
     t1, c1 = time.perf_counter(), time.process_time()
     cont = ContinuationParams(**{"ds_max": 0.1, **case.get("continuation", {})})
     params = blister_rigid.Params(material="gent", Jm=100.0, alpha=0.0, cells=case["cells"],
@@ -107,7 +104,7 @@ def worker(case: dict) -> dict:
     lps = {lp.kind: lp.values for lp in branch.limit_points}
     out = {**case, "t_import": t_import, "t_solve": t_solve, "c_solve": c_solve, "steps": len(branch.rows) - 1,
            "failed_steps": branch.failed_steps, "step_its": branch.newton_iterations,
-           "solves": count["solves"], "its": count["its"],
+           "solves": problem.newton_solves, "its": problem.newton_iterations,
            "P_max": lps["max"]["P"], "V_max": lps["max"]["V_over_V0"],
            "P_min": lps.get("min", {}).get("P"), "dofs": 2 * (params.degree * params.cells + 1) + 1}
     problem.close()

@@ -97,28 +97,6 @@ def mpirun_bcfem(args: list[str], ranks: int, quiet_stdout: bool = False) -> Non
                    check=True, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL if quiet_stdout else None)
 
 
-def count_newton():
-    """Count every Newton solve and iteration from now on (also those of event location and
-    Brent; ``Branch.newton_iterations`` counts accepted steps only).
-
-    Returns:
-        (the running counts, a function that stops counting)
-    """
-    from bcfem.solver.problem import Problem
-
-    count = {"solves": 0, "its": 0}
-    solve = Problem.solve
-
-    def counted(self, *args, **kwargs):
-        ok = solve(self, *args, **kwargs)
-        count["solves"] += 1
-        count["its"] += self.iterations
-        return ok
-
-    Problem.solve = counted
-    return count, lambda: setattr(Problem, "solve", solve)
-
-
 def loadavg() -> str:
     """The 1-minute load average ("?" where /proc is missing): were other jobs running?"""
     p = Path("/proc/loadavg")

@@ -17,7 +17,8 @@ class Falling:
 
     def __init__(self, viscosity, cycles: bool):
         self.u = SimpleNamespace(x=SimpleNamespace(array=np.zeros(1)))
-        self.ctx = SimpleNamespace(u=self.u)
+        self.knob = SimpleNamespace(value=0.0)  # the context's run-time constant "viscosity"
+        self.ctx = SimpleNamespace(u=self.u, constant=lambda name: self.knob)
         self.viscosity, self.cycles = viscosity, cycles
         self.calls = []
 
@@ -28,7 +29,7 @@ class Falling:
         self.u.x.array[:] = saved[0]
 
     def solve(self, fallbacks=True):
-        c, u = self.viscosity.c.value, self.u.x.array
+        c, u = self.knob.value, self.u.x.array
         self.calls.append((c, fallbacks))
         if c == 0:
             if abs(u[0] - 1) > 0.1:
@@ -42,17 +43,15 @@ class Falling:
         return True
 
 
-def viscosity_of(problem_holder):
+def viscosity_of():
     previous = SimpleNamespace(x=SimpleNamespace(array=np.zeros(1)))
-    return SimpleNamespace(previous=previous, c=SimpleNamespace(value=0.0),
-                           increment=lambda: abs(problem_holder[0].u.x.array[0] - previous.x.array[0]))
+    return SimpleNamespace(previous=previous,
+                           increment=lambda ctx: abs(ctx.u.x.array[0] - previous.x.array[0]))
 
 
 def falling(cycles: bool) -> tuple[Falling, SimpleNamespace]:
-    holder = []
-    viscosity = viscosity_of(holder)
-    holder.append(Falling(viscosity, cycles))
-    return holder[0], viscosity
+    viscosity = viscosity_of()
+    return Falling(viscosity, cycles), viscosity
 
 
 def test_a_failed_step_takes_more_viscosity_not_line_searches():

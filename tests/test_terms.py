@@ -320,7 +320,7 @@ def test_solid_surface_energy_of_the_side_and_the_viscous_increment():
     viscosity.energy(ctx)
     ctx.u.interpolate(lambda x: np.vstack([(LR - 1) * x[0], (LZ - 1) * x[1]]))
     assert global_sum(side) == pytest.approx(2 * math.pi * LR * LZ * H, rel=1e-12)
-    assert viscosity.increment() == pytest.approx(math.sqrt(2 * viscosity_energy() / C), rel=1e-12)
+    assert viscosity.increment(ctx) == pytest.approx(math.sqrt(2 * viscosity_energy() / C), rel=1e-12)
 
 
 def test_gent_tends_to_neo_hookean():

@@ -104,8 +104,9 @@ def balloon(material, lam_max: float = LAM_MAX) -> bcfem.BranchScene:
     poles = mesh.locate_entities_boundary(msh, 0, lambda x: np.isclose(x[0], 0) | np.isclose(x[0], math.pi / 2))
     bcs = [component(V, 1, poles)]  # psi = phi at the pole and on the equator
     V0 = 2 * math.pi / 3
-    volume = fem.form(ctx.kin.integral(ctx.kin.volume_density))
-    p = ctx.real_state("pressure")
+    # the row of each accepted point: the shared observables, and the stretch they give
+    observed = [bcfem.cavity_volume(ctx.kin.integral(ctx.kin.volume_density), V0),
+                bcfem.RealState(bcfem.Column("P", "mu t / R", "pressure p R / (mu t)"), ctx.real_state("pressure"))]
 
     def start(fraction: float = 1.0) -> float:
         lam = 1 + 0.02 * fraction
@@ -113,12 +114,11 @@ def balloon(material, lam_max: float = LAM_MAX) -> bcfem.BranchScene:
         return pressure(lam, material.C1, material.C2)
 
     def observe() -> dict:
-        v = bcfem.global_sum(volume) / V0
-        return {"V_over_V0": v, "P": bcfem.real_value(p), "lam": v ** (1 / 3)}
+        values = bcfem.row(observed)
+        return {**values, "lam": values["V_over_V0"] ** (1 / 3)}
 
     return bcfem.BranchScene(name="balloon", ctx=ctx, terms=terms, bcs=bcs, load="pressure", start=start,
-                             observe=observe, end=lambda values: values["lam"] - lam_max,
-                             progress_keys=("lam", "P"))
+                             observe=observe, end=bcfem.Reaches("lam", lam_max), progress_keys=("lam", "P"))
 
 
 # %% [markdown]

@@ -5,7 +5,9 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from mpi4py import MPI
 
@@ -18,10 +20,10 @@ class Shape:
     """A geometry the command line can build: its dataclass, mesher and preview."""
 
     geometry: type
-    create_mesh: object
+    create_mesh: Callable[..., Any]
     help: str
     labels: tuple[str, str]
-    zooms: object = None  # geometry -> close-ups, each (r_min, r_max, z_min, z_max)
+    zooms: Callable[[Any], list] | None = None  # geometry -> close-ups, each (r_min, r_max, z_min, z_max)
 
 
 SHAPES = {
@@ -111,7 +113,7 @@ def preview(data, path, comm, labels=("r", "z"), zooms=()) -> None:
         # a thin layer at true scale would be a line: stretch it and leave its
         # edges, a smear at that scale, to the close-ups (which stay true)
         true_scale = bool(window) or 0.2 < shape < 5
-        ax.add_collection(PolyCollection(triangles, facecolors=colours, edgecolors="k",
+        ax.add_collection(PolyCollection(list(triangles), facecolors=colours, edgecolors="k",
                                          linewidths=0.15 if true_scale else 0))
         ax.autoscale_view()
         if window:

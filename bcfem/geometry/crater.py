@@ -113,7 +113,8 @@ def build_model(geometry: CraterGeometry):
 
     eps = 1e-6 * g.crater_radius
     surfaces = gmsh.model.getEntities(2)
-    layer_surfaces, specimen_surfaces = [], []
+    layer_surfaces: list[int] = []
+    specimen_surfaces: list[int] = []
     for dim, tag in surfaces:
         x, y, _ = occ.getCenterOfMass(dim, tag)
         distance = math.hypot(x, y - zc)
@@ -128,7 +129,7 @@ def build_model(geometry: CraterGeometry):
         lo, hi = gmsh.model.getParametrizationBounds(1, tag)
         return gmsh.model.getValue(1, tag, [0.5 * (lo[0] + hi[0])])[:2]
 
-    groups = {BOTTOM: [], CRATER: [], TOP: [], AXIS: [], OUTER: [], 0: []}
+    groups: dict[int, list[int]] = {BOTTOM: [], CRATER: [], TOP: [], AXIS: [], OUTER: [], 0: []}
     for dim, tag in gmsh.model.getEntities(1):
         x, y = midpoint(tag)
         if abs(y) < eps:

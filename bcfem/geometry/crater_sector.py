@@ -81,7 +81,8 @@ class CraterSector:
         gmsh.model.addPhysicalGroup(3, [t for _, t in body], SPECIMEN, name="specimen")
         if lining:
             gmsh.model.addPhysicalGroup(3, lining, LAYER, name="layer")
-        wall, groups = [], {}
+        wall: list = []
+        groups: dict[int, list] = {}
         sin, cos = math.sin(self.angle), math.cos(self.angle)
         for _, tag in gmsh.model.getEntities(2):
             x, y, z = occ.getCenterOfMass(2, tag)

@@ -263,7 +263,7 @@ def build_model(geometry: DoubleCraterGeometry):
         lo, hi = gmsh.model.getParametrizationBounds(1, tag)
         return gmsh.model.getValue(1, tag, [0.5 * (lo[0] + hi[0])])[:2]
 
-    groups = {BOTTOM: [], TOP: [], AXIS: [], OUTER: [], SIDEWALL: [], ROOF: [], PROTUBERANCE: []}
+    groups: dict[int, list[int]] = {BOTTOM: [], TOP: [], AXIS: [], OUTER: [], SIDEWALL: [], ROOF: [], PROTUBERANCE: []}
     for _, tag in gmsh.model.getEntities(1):
         x, y = midpoint(tag)
         if abs(y) < eps:
@@ -292,7 +292,7 @@ def build_model(geometry: DoubleCraterGeometry):
     special = {RIM: (r0, 0.0), ROOF_RIM: (r0, H)}
     if g.has_protuberance:
         special |= {NECK: (g.neck_radius, H), EQUATOR: (R0, zc)}
-    points = {key: [] for key in (RIM, ROOF_RIM, NECK, CORNER, EQUATOR)}
+    points: dict[int, list[int]] = {key: [] for key in (RIM, ROOF_RIM, NECK, CORNER, EQUATOR)}
     for _, tag in gmsh.model.getEntities(0):
         x, y = gmsh.model.getValue(0, tag, [])[:2]
         key = next((k for k, (px, py) in special.items() if math.hypot(x - px, y - py) < eps), CORNER)

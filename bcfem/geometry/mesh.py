@@ -50,7 +50,7 @@ def distribute(build_model: Callable[[], None], comm, msh_file=None, gdim: int =
 
 
 def graded_tetrahedra(surfaces: list[int], size_near: float, size_far: float, near: float, far: float,
-                      curves: list[int] = (), size_curves: float | None = None) -> None:
+                      curves: tuple[int, ...] | list[int] = (), size_curves: float | None = None) -> None:
     """Mesh the current gmsh model with quadratic tetrahedra of size ``size_near`` within ``near`` of
     the ``surfaces``, growing linearly to ``size_far`` at ``far`` from them and beyond; with
     ``curves``, of size ``size_curves`` within ``near`` of those, growing at the same rate (rank 0)."""
@@ -73,7 +73,7 @@ def graded_tetrahedra(surfaces: list[int], size_near: float, size_far: float, ne
 
     fields = [threshold("SurfacesList", surfaces, size_near)]
     if curves:
-        fields.append(threshold("CurvesList", curves, size_curves))
+        fields.append(threshold("CurvesList", curves, size_near if size_curves is None else size_curves))
     smallest = field.add("Min")
     field.setNumbers(smallest, "FieldsList", fields)
     field.setAsBackgroundMesh(smallest)

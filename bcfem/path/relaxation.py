@@ -50,20 +50,21 @@ def relax(problem, viscosity: Viscosity, stiffness: float, rtol: float = 1e-3,
 def _relax(problem, viscosity: Viscosity, stiffness: float, rtol: float, max_steps: int,
            line_searches: bool) -> tuple[bool, int]:
     c, largest = stiffness, 0.0
+    knob = problem.ctx.constant("viscosity")
     for step in range(1, max_steps + 1):
         viscosity.previous.x.array[:] = problem.ctx.u.x.array
-        viscosity.c.value = c
+        knob.value = c
         if not problem.solve(fallbacks=line_searches):
             c *= 4.0  # too large a pseudo-time step: more viscosity
             if c > 1e6 * stiffness:  # not even a tiny step is solvable: give up
                 break
             continue
-        force = c * viscosity.increment()
+        force = c * viscosity.increment(problem.ctx)
         largest = max(largest, force)
         if force <= rtol * largest or step % 10 == 0:
-            viscosity.c.value = 0.0
+            knob.value = 0.0
             if problem.solve():
                 return True, step
         c *= 0.7
-    viscosity.c.value = 0.0
+    knob.value = 0.0
     return False, step

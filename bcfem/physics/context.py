@@ -21,7 +21,10 @@ from typing import Any
 
 import basix.ufl
 import dolfinx
+import ufl
 from dolfinx import fem
+
+from bcfem.mpi import global_sum
 
 
 def _is_parameter(field: dataclasses.Field, value) -> bool:
@@ -52,6 +55,7 @@ class Context:
         self._owned: dict[int, tuple[Any, Any]] = {}
         self._named: dict[str, list[fem.Constant]] = {}
         self._entity_maps: list = []
+        self._body_measure: fem.Constant | None = None
 
     @property
     def real_space(self) -> fem.FunctionSpace:
@@ -60,6 +64,14 @@ class Context:
                                              dtype=dolfinx.default_real_type)
             self._real_space = fem.functionspace(self.mesh, element)
         return self._real_space
+
+    def body_measure(self) -> fem.Constant:
+        """The body's measure ∫ 1 dx over :attr:`mesh`, a constant (collective; assembled on
+        the first request, a property of the mesh like :attr:`real_space`)."""
+        if self._body_measure is None:
+            measure = global_sum(fem.form(1.0 * ufl.dx(domain=self.mesh)))
+            self._body_measure = fem.Constant(self.mesh, dolfinx.default_scalar_type(measure))
+        return self._body_measure
 
     def real_state(self, name: str) -> fem.Function:
         """The global scalar unknown ``name``, created on first request."""

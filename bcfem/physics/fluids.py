@@ -24,9 +24,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import ufl
-from dolfinx import fem
 
-from bcfem.mpi import global_sum
 from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
@@ -35,11 +33,8 @@ if TYPE_CHECKING:
 
 
 def over_body(ctx: Context, value) -> ufl.Form:
-    """``value`` as an integrand over the body: value / |body| dx (|body| a run-time constant)."""
-    measure = ctx.constant("body_measure", 1.0)
-    if measure.value == 1.0:
-        measure.value = global_sum(fem.form(1.0 * ufl.dx(domain=ctx.mesh)))
-    return value / measure * ufl.dx(domain=ctx.mesh)
+    """``value`` as an integrand over the body: value / |body| dx (:meth:`Context.body_measure`)."""
+    return value / ctx.body_measure() * ufl.dx(domain=ctx.mesh)
 
 
 @dataclass(frozen=True)
@@ -66,10 +61,10 @@ class SealedFluid(Term):
         return (self.pressure_name,)
 
     def unknowns(self, ctx):
-        """(pressure state, sealed volume constant ``<pressure_name>_sealed``: each pressure
-        its own, so that several chambers, sealed apart, live in one model)."""
-        amount = ctx.constant(f"{self.pressure_name}_sealed")
-        amount.value = self.sealed_volume  # a fluid sealed again under the same name: its new amount
+        """(pressure state, the sealed amount: this fluid's constant, named
+        ``<pressure_name>_sealed`` for :meth:`Context.set`, so that several chambers, sealed
+        apart, live in one model)."""
+        amount = ctx.parameters(self, {"sealed_volume": f"{self.pressure_name}_sealed"}).sealed_volume
         return ctx.real_state(self.pressure_name), amount
 
 
@@ -112,8 +107,7 @@ class HeldPressure(Term):
         return f"{self.pressure_name}_held"
 
     def energy(self, ctx: Context) -> ufl.Form:
-        p = ctx.constant(self.name)
-        p.value = self.pressure
+        p = ctx.parameters(self, {"pressure": self.name}).pressure
         return -(p - 1.0) * self.cavity.volume(ctx.kin)
 
 

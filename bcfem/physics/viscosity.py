@@ -31,15 +31,16 @@ class Viscosity(Term):
 
     def __init__(self, u: fem.Function):
         self.previous = fem.Function(u.function_space, name="previous_displacement")
-        self._increment = None
+        self._increments: dict[int, fem.Form] = {}
 
     def energy(self, ctx: Context) -> ufl.Form:
-        c = ctx.constant("viscosity", 0.0)
-        self.c = c
         d = ctx.u - self.previous
-        self._increment = fem.form(ctx.kin.integral(ufl.inner(d, d)))
-        return 0.5 * c * ctx.kin.integral(ufl.inner(d, d))
+        return 0.5 * ctx.constant("viscosity", 0.0) * ctx.kin.integral(ufl.inner(d, d))
 
-    def increment(self) -> float:
-        """‖u - u_prev‖ over the body (L2 with the volume weight)."""
-        return math.sqrt(max(global_sum(self._increment), 0.0))
+    def increment(self, ctx: Context) -> float:
+        """‖u - u_prev‖ over the body (L2 with the volume weight); collective, its form
+        compiled on the first call for ``ctx``."""
+        if id(ctx) not in self._increments:
+            d = ctx.u - self.previous
+            self._increments[id(ctx)] = fem.form(ctx.kin.integral(ufl.inner(d, d)))
+        return math.sqrt(max(global_sum(self._increments[id(ctx)]), 0.0))

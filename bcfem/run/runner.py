@@ -26,7 +26,7 @@ from contextlib import contextmanager
 from dataclasses import asdict, is_dataclass
 from pathlib import Path
 
-from bcfem import interrupt, io, jit, log
+from bcfem import columns, interrupt, io, jit, log
 from bcfem.log import logger
 from bcfem.path.continuation import ContinuationError
 from bcfem.path.stepping import SteppingError
@@ -69,11 +69,13 @@ class Run:
 
     Attributes:
         rows: accepted states' observables, in path order.
+        stages: each stage's problem in order: its end condition and why it ended.
         results: the scene's own summary entries (filled as the solve goes on, so that
             a failed solve still reports what it found).
         petsc_options: effective options of every stage's problem, by full name.
         dofs: the largest global size of the stages' problems.
-        newton_iterations: over every stage.
+        newton_solves, newton_iterations: Newton solves and their iterations (fallbacks
+            included), over every stage.
         summary: the run's ``summary.json``, set when the solve ends (:func:`solve`).
     """
 
@@ -86,11 +88,14 @@ class Run:
         self.results: dict = {}
         self.petsc_options: dict[str, str] = {}
         self.dofs = 0
+        self.newton_solves = 0
         self.newton_iterations = 0
         self.failed_solves = 0
         #: the most null pivots of a converged tangent, over every stage (0: all regular)
         self.null_pivots = 0
         self.timings = dict.fromkeys(TIMED, 0.0)
+        #: each stage's problem: its end condition and why it ended (or why it was skipped)
+        self.stages: list[dict] = []
         self.summary: dict = {}
         self._problems: list[Problem] = []
 
@@ -125,6 +130,7 @@ class Run:
         """Count the problem's Newton iterations and destroy its PETSc objects."""
         if problem in self._problems:
             self._problems.remove(problem)
+            self.newton_solves += problem.newton_solves
             self.newton_iterations += problem.newton_iterations
             self.failed_solves += problem.failed_solves
             self.null_pivots = max(self.null_pivots, problem.null_pivots or 0)
@@ -167,6 +173,7 @@ class Run:
         """Forget the rows and results (a scene that traces its path again from the start)."""
         self.rows.clear()
         self.results.clear()
+        self.stages.clear()
 
     def close(self) -> None:
         for problem in list(self._problems):
@@ -211,7 +218,10 @@ def solve(scene: Scene, comm, fields_path: Path | None = None,
         **({"traceback": "".join(traceback.format_exception(raised))} if status == "failed" and raised else {}),
         "parameters": _parameters(params),
         **run.results,
+        "stages": run.stages,
+        "columns": columns.record(scene.columns),
         "steps": len(run.rows),
+        "newton_solves": run.newton_solves,
         "newton_iterations": run.newton_iterations,
         "failed_solves": run.failed_solves,
         "null_pivots": run.null_pivots,
@@ -271,7 +281,7 @@ def solve_into(scene: Scene, out: Path, comm, plots: bool = True,
                 raise
             failure, solved, summary = err, err.run, err.run.summary
         with interrupt.deferred():  # the results of a signalled run are written all the same
-            io.write_csv(out / "branch.csv", solved.rows, comm, scene.columns)
+            io.write_csv(out / "branch.csv", solved.rows, comm, columns.names(scene.columns))
             for name, table in scene.tables(solved.rows, summary).items():  # the scene's declared tables
                 io.write_csv(out / name, table, comm)
             if plots and comm.rank == 0 and solved.rows:

@@ -11,10 +11,14 @@ summary)`` and ``tables(rows, summary)`` (:mod:`bcfem.run.runner` drives it). A
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
+from bcfem.columns import Column
 from bcfem.params import ContinuationParams
+from bcfem.path.terminations import Termination
+from bcfem.physics.context import Context
 
 
 class Scene:
@@ -25,13 +29,14 @@ class Scene:
         name: the registry name (the PETSc prefixes ``bcfem_<name>_<stage>_``).
         stages: the names of the stages it declares.
         params: its parameters (a dataclass, recorded in ``summary.json``), or None.
-        columns: the columns of ``branch.csv`` (None: every key of the rows).
+        columns: the columns of ``branch.csv`` with their units (:func:`bcfem.columns.declare`;
+            None: every key of the rows).
     """
 
     name: str
     stages: tuple[str, ...]
-    params: object = None
-    columns: list[str] | tuple[str, ...] | None = None
+    params: Any = None
+    columns: Sequence[Column] | None = None
 
     def solve(self, run) -> None:
         """Solve into ``run`` (:class:`bcfem.run.runner.Run`): its rows, results and stages'
@@ -60,7 +65,8 @@ class BranchScene(Scene):
         start: ``start(fraction)`` sets an initial guess at ``fraction`` of the
             scene's starting level and returns the starting load.
         observe: collective; observables of the current state (normalised).
-        end: the path ends where this turns positive.
+        end: the path ends where this turns non-negative (a
+            :class:`~bcfem.path.terminations.Termination`, or a function of the observables).
         begin: if given, the path is first traced backwards from the start until
             this turns positive (for branches whose small-load end cannot be
             reached from a simple guess).
@@ -77,11 +83,11 @@ class BranchScene(Scene):
         switches: model changes along the path (``bcfem.path.continuation.Switch``).
         summarize: extra entries of ``summary.json`` from the finished branch.
         params: the scene's parameters (recorded in ``summary.json``).
-        columns: the columns of ``branch.csv``.
+        columns: the columns of ``branch.csv`` (:func:`bcfem.columns.declare`).
     """
 
     name: str
-    ctx: object
+    ctx: Context
     terms: list
     bcs: list
     load: str
@@ -100,8 +106,8 @@ class BranchScene(Scene):
     rows: dict = field(default_factory=dict)
     switches: list = field(default_factory=list)
     summarize: Callable[[object], dict] | None = None
-    params: object = None
-    columns: list[str] | None = None
+    params: Any = None
+    columns: Sequence[Column] | None = None
 
     stages = ("branch",)
 
@@ -151,7 +157,12 @@ class BranchScene(Scene):
             self._report(run, err.branch)
             raise
         self._report(run, branch)
-        self._branch = branch
+        self.ended(run, branch)
+
+    def ended(self, run, branch) -> None:
+        """Record the branch's stage as ended by its end condition (the summary's ``stages``)."""
+        run.stages.append({"stage": "branch", "until": describe(self.end),
+                           "ended": f"the end condition holds at point {len(branch.rows)}"})
 
     def _report(self, run, branch) -> None:
         run.rows[:] = branch.rows
@@ -168,3 +179,11 @@ class BranchScene(Scene):
 
         return {name: branch_figure(self._branch, x, y, xl, yl, title=self.name)
                 for name, (x, y, xl, yl) in self.plots.items()}
+
+
+def describe(end: Callable[[dict], float]) -> str:
+    """An end condition in words: a termination's own, else its function's summary line."""
+    if isinstance(end, Termination):
+        return str(end)
+    doc = (end.__doc__ or "").strip().splitlines()
+    return doc[0] if doc else "the scene's end function turns non-negative"

@@ -1,21 +1,46 @@
 """A scene's stages as data, and the loop that runs them.
 
 A :class:`Stage` says what a stage changes and what drives it: what happens on entering it
-(``enter``: seal a cavity, switch a fluid), the terms its problem holds, what is set on the
-problem once built (``prepare``: contact bounds, a force to measure), and the path that drives
-it to its end (``drive``: load steps to a preload, a retraction to zero force). A
-:class:`StagedScene` builds its model, declares its stages, and :meth:`StagedScene.solve`
-runs them in order, each as one problem under the prefix ``bcfem_<scene>_<stage>_``, as
-PyBaMM's ``Simulation`` runs the steps of an ``Experiment``.
+(``enter``: seal a cavity, switch a fluid; it may skip the stage, saying why), the terms its
+problem holds, what is set on the problem once built (``prepare``: contact bounds, a force to
+measure), the path that drives it (``drive``) and what ends it (``until``, a
+:class:`~bcfem.path.terminations.Termination`). ``drive`` records the accepted rows into the
+run as it goes (they are the run's as soon as they are accepted) and returns :class:`Ended`:
+why it ended, what it found for the summary, and whether the stage is entered again with its
+terms built anew. A :class:`StagedScene` builds its model, declares its stages, and
+:meth:`StagedScene.solve` runs them in order, each as one problem under the prefix
+``bcfem_<scene>_<stage>_``, as PyBaMM's ``Simulation`` runs the steps of an ``Experiment``.
+The summary's ``stages`` lists each problem's stage, its end condition and why it ended.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from bcfem.path.terminations import Termination
 from bcfem.run.scene import Scene
+
+if TYPE_CHECKING:
+    from bcfem.run.runner import Run
+    from bcfem.solver.problem import Problem
+
+
+@dataclass(frozen=True)
+class Ended:
+    """What a stage's drive found.
+
+    Attributes:
+        why: why it ended, in words (e.g. ``zero platen force at eps = 0.0412``).
+        results: its entries of the summary.
+        again: enter the stage again, its terms built anew (a liquid that changed phase,
+            chambers that split): the drive then starts from the state it ended in.
+    """
+
+    why: str
+    results: dict = field(default_factory=dict)
+    again: bool = False
 
 
 @dataclass(frozen=True)
@@ -25,22 +50,21 @@ class Stage:
     Attributes:
         name: the stage's name (its PETSc prefix ``bcfem_<scene>_<name>_``).
         terms: the stage's energy terms, built when it is entered (after ``enter``).
-        drive: follows the stage's path on its problem, recording rows into the run; it
-            ends the stage (returns) where the stage's end condition holds, or returns True
-            to enter the stage again with its terms built anew (a fluid that changes phase).
-        ends: what ends the stage, in words (the scene's help and docs).
-        enter: what happens on entering the stage, before its terms are built; returning
-            False skips the stage (nothing left to do, e.g. a crater that stays closed).
+        drive: follows the stage's path on its problem, recording the accepted rows into the
+            run, until ``until`` holds (or the stage must be entered again): :class:`Ended`.
+        until: what ends the stage (recorded in the summary's ``stages``).
+        enter: what happens on entering the stage, before its terms are built; it returns
+            why the stage is skipped (e.g. a crater that stays closed), or None.
         prepare: what is set on the stage's problem before it is driven.
         petsc_options: the stage's PETSc defaults (the user's options still win).
     """
 
     name: str
     terms: Callable[[], list]
-    drive: Callable[[Any, Any], bool | None]
-    ends: str
-    enter: Callable[[], bool | None] | None = None
-    prepare: Callable[[Any], None] | None = None
+    drive: Callable[[Problem, Run], Ended]
+    until: Termination
+    enter: Callable[[Run], str | None] | None = None
+    prepare: Callable[[Problem], None] | None = None
     petsc_options: dict = field(default_factory=dict)
 
 
@@ -59,7 +83,7 @@ class StagedScene(Scene):
         """Keyword arguments of every stage's :class:`~bcfem.solver.problem.Problem`."""
         return {}
 
-    def setup(self, run) -> None:
+    def setup(self, run: Run) -> None:
         """Build the model (mesh, states) and record what the run reports before any stage."""
         raise NotImplementedError
 
@@ -67,17 +91,19 @@ class StagedScene(Scene):
         """The stages, in order (called once the model is built)."""
         raise NotImplementedError
 
-    def finish(self, run) -> None:
+    def finish(self, run: Run) -> None:
         """Summary entries once every stage has ended."""
 
-    def solve(self, run) -> None:
+    def solve(self, run: Run) -> None:
         self.setup(run)
         stages = self.plan()
         undeclared = [s.name for s in stages if s.name not in self.stages]
         if undeclared:
             raise ValueError(f"scene {self.name!r} plans the undeclared stages {undeclared}")
         for stage in stages:
-            if stage.enter is not None and stage.enter() is False:
+            skipped = stage.enter(run) if stage.enter is not None else None
+            if skipped is not None:
+                run.stages.append({"stage": stage.name, "until": str(stage.until), "skipped": skipped})
                 continue
             again = True
             while again:
@@ -87,6 +113,8 @@ class StagedScene(Scene):
                 with run.stage(stage.name, self.model.ctx, terms, self.model.bcs, petsc, **options) as problem:
                     if stage.prepare is not None:
                         stage.prepare(problem)
-                    again = bool(stage.drive(problem, run))
+                    ended = stage.drive(problem, run)
+                run.results.update(ended.results)
+                run.stages.append({"stage": stage.name, "until": str(stage.until), "ended": ended.why})
+                again = ended.again
         self.finish(run)
-

@@ -129,7 +129,7 @@ def _numbers(base, name: str, values):
     return np.array(numbers)
 
 
-def grid_points(base, axes: list[tuple[str, np.ndarray]]) -> list:
+def grid_points(base, axes: list[tuple[str, np.ndarray | list]]) -> list:
     """Every combination of the axes, as validated parameter sets (validation happens here,
     before any solve, so a bad grid fails at once)."""
     names = [a[0] for a in axes]

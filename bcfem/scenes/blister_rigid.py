@@ -23,17 +23,21 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from bcfem.columns import SHARED, Column, declare
 from bcfem.kinematics.membrane import AxisymmetricMembrane
-from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, global_sum, real_value, sample
+from bcfem.mpi import PointEvaluator, cell_maximum, coordinate_range, sample
 from bcfem.params import Bound, ContinuationParams, check_bounds, describe, require
 from bcfem.path.continuation import Switch
+from bcfem.path.terminations import AnyOf, Reaches
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
+from bcfem.physics.observables import Integral, Measured, Observable, RealState, cavity_volume, pressure, row
+from bcfem.physics.protocols import Term
 from bcfem.radial_profile import RadialProfile, check_resolved, shape_of
 from bcfem.radial_profile import parse as parse_profile
 from bcfem.run.scene import BranchScene
-from bcfem.scenes.membrane_edges import EDGES, domain
+from bcfem.scenes.membrane_edges import EDGES, Edge, domain
 from bcfem.theory.membrane import droplet, droplet_angle_from_volume, simple_membrane_pressure
 
 V0 = 4.0 * math.pi / 3.0  # reference volume 4/3 pi R0^3, with R0 = 1
@@ -78,7 +82,10 @@ HELP = {
                     "(1 for the sliding edge, whose small-volume end is wrapped; "
                     "0.3 for the slippery edge)",
 }
-COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "R1_over_R0", "r1_over_R0", "s"]
+COLUMNS = declare("V_over_V0", "P", "aspect", "contact_angle_deg", "energy", "R1_over_R0", "r1_over_R0", "s")
+#: measured in every row, not written to branch.csv (guards, events and summaries read them)
+N_THETA_MIN = Column("N_theta_min", "mu_f t0", "the least hoop tension (< 0: where wrinkling can start, Fig. 3.19)")
+DPI_DR1 = Column("dPi_dR1", "pi mu_f t0 R0", "the free energy's derivative in the debond radius (a moving front)")
 
 
 @dataclass(frozen=True)
@@ -169,7 +176,7 @@ class Model:
 
     ctx: Context
     terms: list
-    edge: object
+    edge: Edge
     observe: Callable[[], dict]
     switches: list
     structure: tuple  # of the parameters it was composed for
@@ -191,7 +198,7 @@ def compose(params: Params, comm, extra_terms=()) -> Model:
     edge = EDGES[params.edge](ctx, params)
     ctx.kin = AxisymmetricMembrane(u, quadrature_degree=2 * params.degree + 2, reference=edge.reference,
                                    cell_tags=cell_tags)
-    terms = [MembraneStrain(params.material_model())]
+    terms: list[Term] = [MembraneStrain(params.material_model())]
     if params.alpha > 0:
         terms.append(SurfaceTension(params.alpha, region=edge.liquid_region))
     terms.append(PressureVolume())
@@ -225,8 +232,7 @@ def scene_for(model: Model, params: Params) -> BranchScene:
 
     return BranchScene(name="blister-rigid", ctx=ctx, terms=model.terms, bcs=model.edge.bcs, load="pressure",
                  start=start, observe=model.observe,
-                 end=lambda values: max(values["V_over_V0"] - params.v_max,
-                                        values["R1_over_R0"] - params.stop_radius),
+                 end=AnyOf((Reaches("V_over_V0", params.v_max), Reaches("R1_over_R0", params.stop_radius))),
                  begin=(lambda values: params.v_start - values["V_over_V0"])
                  if params.start_at > params.v_start else None,
                  grows="V_over_V0",
@@ -301,44 +307,40 @@ def membrane_tractions(ctx, terms):
     return sum(p[0] for p in pairs), sum(p[1] for p in pairs)
 
 
-def observables(ctx, terms):
-    """Compile the observables once; returns a collective callable."""
+def observables(ctx, terms) -> Callable[[], dict]:
+    """The blister's observables (compiled once); returns their collective row."""
     kin, u = ctx.kin, ctx.u
-    volume = fem.form(kin.integral(kin.volume_density))
-    energy = fem.form(sum(t.energy(ctx) for t in terms))
     apex = PointEvaluator(ctx.mesh, [0.0]).expression(u[1])
     # just inside the blister zone: with the slippery edge the slope jumps at the front
     edge_slope = PointEvaluator(ctx.mesh, [1.0 - 1e-10]).expression(ufl.as_vector([kin.dr, kin.dz]))
-    pressure = ctx.real_state("pressure")
     edge_radius = PointEvaluator(ctx.mesh, [1.0]).expression(kin.r)
-    release = None
-    if "debond_radius" in ctx.states:
-        R1 = ctx.states["debond_radius"]
-        one = fem.Function(R1.function_space)
-        one.x.array[:] = 1.0
-        release = fem.form(ufl.derivative(sum(t.energy(ctx) for t in terms), R1, one))
     degree = ctx.u.function_space.element.basix_element.degree
     I1 = cell_maximum(ctx.mesh, kin.I1 - 3, degree)
     _, hoop = membrane_tractions(ctx, terms)
     hoop_compression = cell_maximum(ctx.mesh, -hoop, degree)
 
-    def observe() -> dict:
+    def contact_angle() -> float:
         dr, dz = edge_slope()
-        return {
-            "V_over_V0": global_sum(volume) / V0,
-            "P": real_value(pressure),
-            "aspect": float(apex()[0]),
-            "contact_angle_deg": math.degrees(math.atan2(-dz, dr)),
-            "energy": global_sum(energy) / math.pi,
-            "I1_minus_3_max": I1(),
-            # N_theta < 0 somewhere: where wrinkling can start (Fig. 3.19)
-            "N_theta_min": -hoop_compression(),
-            "R1_over_R0": real_value(ctx.states["debond_radius"]) if release else 1.0,
-            "r1_over_R0": float(edge_radius()[0]),
-            **({"dPi_dR1": global_sum(release) / math.pi} if release else {}),
-        }
+        return math.degrees(math.atan2(-dz, dr))
 
-    return observe
+    measures: list[Observable] = [
+        cavity_volume(kin.integral(kin.volume_density), V0),
+        pressure(ctx.real_state("pressure")),
+        Measured(SHARED["aspect"], lambda: float(apex()[0])),
+        Measured(SHARED["contact_angle_deg"], contact_angle),
+        Integral.of("energy", sum(t.energy(ctx) for t in terms), math.pi),
+        Measured(SHARED["I1_minus_3_max"], I1),
+        Measured(N_THETA_MIN, lambda: -hoop_compression()),
+        RealState(SHARED["R1_over_R0"], ctx.states["debond_radius"]) if "debond_radius" in ctx.states
+        else Measured(SHARED["R1_over_R0"], lambda: 1.0),
+        Measured(SHARED["r1_over_R0"], lambda: float(edge_radius()[0])),
+    ]
+    if "debond_radius" in ctx.states:  # the configurational force on the front
+        R1 = ctx.states["debond_radius"]
+        one = fem.Function(R1.function_space)
+        one.x.array[:] = 1.0
+        measures.append(Integral.of(DPI_DR1, ufl.derivative(sum(t.energy(ctx) for t in terms), R1, one), math.pi))
+    return lambda: row(measures)
 
 
 def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
@@ -353,7 +355,8 @@ def cap_guess(ctx, params: Params, v_over_v0: float) -> float:
     """
     young = {"sliding": params.phi_Y_deg,
              "slippery": math.degrees(math.acos(-params.adhesion / params.alpha))
-             if params.edge == "slippery" and 0 < params.alpha and abs(params.adhesion) < params.alpha
+             if params.edge == "slippery" and not isinstance(params.adhesion, RadialProfile)
+             and 0 < params.alpha and abs(params.adhesion) < params.alpha
              else None}.get(params.edge)
     if young is not None:
         weight = params.alpha / (params.alpha + params.stiffness)

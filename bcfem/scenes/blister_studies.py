@@ -61,7 +61,7 @@ def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float
     ctx = scene.ctx
     held = ctx.constant("debond_radius_held")
     R1 = ctx.states["debond_radius"]
-    scene.start()
+    scene.start(1.0)
     with Problem(ctx, scene.terms, scene.bcs, scene.prefix, scene.petsc_options, rows=scene.rows,
                  energy_scale=scene.load_scale) as problem:
         control = VolumeControl.membrane(ctx)
@@ -80,7 +80,8 @@ def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float
         held.value = 1.0
         R1.x.array[:] = 1.0
         control.solve_to(problem, vc * V0)
-        return {"V_over_V0": vc, "P": real_value(ctx.states["pressure"]), "dF_dR1": slope(vc)}
+        return {"V_over_V0": vc, "P": real_value(ctx.states["pressure"]), "dF_dR1": slope(vc),
+                "newton_solves": problem.newton_solves, "newton_iterations": problem.newton_iterations}
 
 
 MAP_COLUMNS = [("V_over_V1", "V/V1"), ("P1", "Δp R1/(μ t0)"), ("aspect1", "z(0)/R1"),

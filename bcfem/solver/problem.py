@@ -99,7 +99,8 @@ class Problem(ConvergedAlgebra):
         self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
             else tuple(line_search_fallbacks)
         self.iterations = 0
-        #: Newton iterations over every solve
+        #: Newton solves (each :meth:`solve` call) and their iterations, fallbacks included
+        self.newton_solves = 0
         self.newton_iterations = 0
         self.reason: int = 0
         #: how often cp's critical-point exit had to be finished by Newton steps
@@ -198,6 +199,7 @@ class Problem(ConvergedAlgebra):
         Returns:
             True when SNES converged (reason > 0) to a finite state.
         """
+        self.newton_solves += 1
         saved = self.save()
         ok = self._newton()
         line_search = self.snes.getLineSearch()

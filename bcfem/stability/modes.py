@@ -128,6 +128,9 @@ class ModeContext:
     def parameters(self, owner, names=None):
         return self.base.parameters(owner, names)
 
+    def body_measure(self):
+        return self.base.body_measure()
+
     @property
     def u(self):
         raise AttributeError("this term needs the displacement itself, which a Fourier mode does not "

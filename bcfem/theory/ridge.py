@@ -309,8 +309,9 @@ def surface_displacement(rho, c: float, nu: float, theta: float = np.pi / 2,
     weights = (math.sin(theta), math.cos(theta))
     # a load that is absent contributes nothing, even where the other is infinite
     parts = [(wt, resp) for wt, resp in zip(weights, (normal, tangential)) if wt != 0.0]
-    return Displacement(sum(wt * resp.u_r for wt, resp in parts),
-                        sum(wt * resp.u_z for wt, resp in parts))
+    zero = np.zeros_like(np.asarray(rho, dtype=float))
+    return Displacement(zero + sum(wt * resp.u_r for wt, resp in parts),
+                        zero + sum(wt * resp.u_z for wt, resp in parts))
 
 
 def ridge_height(c: float, nu: float, theta: float = np.pi / 2,

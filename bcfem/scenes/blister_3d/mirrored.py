@@ -57,13 +57,13 @@ def build_mirrored_model(outline: Outline) -> None:
     index[tags.astype(np.int64)] = np.arange(len(tags))
     _, nodes = gmsh.model.mesh.getElementsByType(triangle, quarter[1])
     cells = index[nodes.astype(np.int64)].reshape(len(nodes) // (3 * order), -1)
-    edges = []
+    pieces = []
     for _, curve in gmsh.model.getBoundary([quarter], oriented=False):
         _, nodes = gmsh.model.mesh.getElementsByType(line, abs(curve))
         segments = index[nodes.astype(np.int64)].reshape(-1, order + 1)
         if not np.all(np.any(points[segments] == 0.0, axis=2).all(axis=1)):  # not a cut along an axis
-            edges.append(segments)
-    edges = np.vstack(edges)
+            pieces.append(segments)
+    edges = np.vstack(pieces)
     gmsh.model.remove()
 
     # the four reflections; one that flips orientation swaps two vertices so cells stay counter-clockwise

@@ -5,6 +5,7 @@ it, inflated at a pressure traced by arc-length (the terms of ``blister-rigid`` 
 from __future__ import annotations
 
 import math
+from operator import itemgetter
 
 from mpi4py import MPI
 
@@ -15,14 +16,16 @@ from dolfinx import fem
 from bcfem.geometry.outline import EDGE, create_mesh
 from bcfem.kinematics.planar_membrane import PlanarMembrane
 from bcfem.log import progress
-from bcfem.mpi import cell_maximum, global_sum, real_value
+from bcfem.mpi import cell_maximum, global_sum
 from bcfem.path.branch import Switch
+from bcfem.physics import observables
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension, WettedSubstrate
 from bcfem.physics.materials import slopes
+from bcfem.physics.observables import Integral, Measured, Observable, cavity_volume, row
 from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
 from bcfem.scenes.blister_3d.mirrored import create_mirrored_mesh
-from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, COLUMNS, V0, Params
+from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, CLAMPED_COLUMNS, V0, Params
 from bcfem.scenes.blister_3d.pattern import Map, MappedWetting, PatternedWetting, values_of, varies
 from bcfem.scenes.blister_3d.pattern import at as dgamma_at
 from bcfem.scenes.blister_3d.release import ReleaseRate
@@ -50,8 +53,9 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     patterned = varies(params.delta_gamma)
     wetting = None
     if adhesive:  # the liquid's share of the substrate, pi r^2 for the circle: its cost w per area
-        wetting = (MappedWetting if isinstance(params.delta_gamma, Map) else PatternedWetting)(
-            params.gamma_ls, params.delta_gamma) if patterned else WettedSubstrate(params.adhesion_cost)
+        delta = params.delta_gamma
+        wetting = (MappedWetting(params.gamma_ls, delta) if isinstance(delta, Map) else
+                   PatternedWetting(params.gamma_ls, delta) if patterned else WettedSubstrate(params.adhesion_cost))
         terms.append(wetting)
     terms.extend(extra_terms)
 
@@ -62,8 +66,6 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
         return guess.apply(u, fraction * params.v_start * V0, tension=params.alpha)
 
     kin = ctx.kin
-    volume = fem.form(kin.integral(kin.volume_density))
-    energy = fem.form(sum(t.energy(ctx) for t in terms))
     pressure = ctx.real_state("pressure")
     degree = params.degree
     I1 = cell_maximum(msh, kin.I1 - 3, degree)
@@ -91,16 +93,29 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
         release = ReleaseRate(ctx, sum(t.energy(ctx) for t in terms if not isinstance(t, PressureVolume)) + work,
                               edge_facets, cost, scale)
 
+    column = {c.name: c for c in ADHESIVE_COLUMNS}
+    observed: list[Observable] = [
+        cavity_volume(kin.integral(kin.volume_density), V0),
+        observables.pressure(pressure),
+        Measured(column["aspect"], lambda: msh.comm.allreduce(float(u.x.array[heights].max(initial=-np.inf)),
+                                                              op=MPI.MAX)),
+        Integral.of("energy", sum(t.energy(ctx) for t in terms), math.pi),
+        Measured(column["stretch_max"], stretch),
+        Measured(column["I1_minus_3_max"], I1),
+        Measured(column["N2_min"], lambda: -compression()),
+        Integral(column["wrinkled_fraction"], wrinkled),
+    ]
+    if release:  # the debonded area: the membrane's, whose outline moves with the front
+        area = fem.form(kin.integral(1.0))
+        observed.append(Measured(column["R_front"], lambda: math.sqrt(global_sum(area) / math.pi)))
+
     def observe() -> dict:
         for f, expression in drawn:
             f.interpolate(expression)
-        apex = msh.comm.allreduce(float(u.x.array[heights].max(initial=-np.inf)), op=MPI.MAX)
-        return {"V_over_V0": global_sum(volume) / V0, "P": real_value(pressure), "aspect": apex,
-                "energy": global_sum(energy) / math.pi, "stretch_max": stretch(), "I1_minus_3_max": I1(),
-                "N2_min": -compression(), "wrinkled_fraction": global_sum(wrinkled),
-                **({**release(), "R_front": math.sqrt(global_sum(area) / math.pi)} if release else {})}
+        return {**row(observed), **(release() if release else {})}
 
     def end(values) -> float:
+        """V/V0 reaches v_max, or (an adhesive edge) the front's onset."""
         # the adhesive edge's branch ends at the onset (the front then moves: grow), or, if it is
         # not to move, where all of the outline is over-critical
         last = "excess_max" if params.front_steps else "excess_min"
@@ -109,9 +124,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     # where the release rate first reaches the cost somewhere (the onset) and on average (a front
     # that moves uniformly: the circle's axisymmetric onset); they change nothing
     events = (("delamination onset", "excess_max"), ("uniform onset", "excess_mean"))
-    switches = [Switch(name, lambda values, key=key: values[key], lambda: None)
-                for name, key in events] if release else []
-    area = fem.form(kin.integral(1.0))
+    switches = [Switch(name, itemgetter(key), lambda: None) for name, key in events] if release else []
     fronts = []
 
     def grow(run) -> None:
@@ -119,6 +132,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
         onset = run.results.get("delamination_onset")
         if not onset or not run.rows:
             return
+        assert release is not None, "a front grows on an adhesive edge"
         motion = MeshMotion(release, edge_facets, moved=wetting.refresh if isinstance(wetting, MappedWetting) else None)
         start, s0 = onset["V_over_V0"], run.rows[-1]["s"]
         fronts.append((start, release.gather()[0]))
@@ -155,7 +169,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
                  continuation=params.continuation,
                  plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μ t0)")},
                  load_scale=max(1.0, 2 * params.alpha), guard=guard, params=params,
-                 columns=ADHESIVE_COLUMNS if adhesive else COLUMNS)
+                 columns=ADHESIVE_COLUMNS if adhesive else CLAMPED_COLUMNS)
 
 
 def onset(branch, cost: float) -> dict:

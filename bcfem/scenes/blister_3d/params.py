@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from bcfem.columns import Column, declare
 from bcfem.geometry.outline import KINDS, Outline, read_vertices
 from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, describe, require
 from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
@@ -61,11 +62,27 @@ mirror its critical mode breaks; exact on --mesh mirrored).
 Outputs: DIR/branch.csv, DIR/summary.json, DIR/pv.png, DIR/membrane.png (the last
 state rendered, coloured by the major tension N1), DIR/fields.bp (VTX: the
 displacement on the reference outline; warp by it in ParaView)."""
-COLUMNS = ["V_over_V0", "P", "aspect", "energy", "stretch_max", "I1_minus_3_max", "N2_min",
-           "wrinkled_fraction", "s"]
-ADHESIVE_COLUMNS = [*COLUMNS[:-1], "G_max", "G_mean", "G_min", "excess_max", "excess_mean", "excess_min",
-                    "front_x", "front_y", "R_front", "front_R_min",
-                    "front_R_max", "front_residual", "s"]
+_MEMBRANE = declare(
+    "V_over_V0", "P", Column("aspect", "1", "the apex height max z over R0"), "energy",
+    Column("stretch_max", "1", "the largest principal stretch"), "I1_minus_3_max",
+    Column("N2_min", "mu_f t0", "the least minor principal tension (the membrane's plus gamma_l)"),
+    Column("wrinkled_fraction", "1", "the area fraction where the taut membrane's minor tension is < 0"),
+    Column("unstable_modes", "1", "the tangent's unstable modes under volume control"))
+_FRONT = declare(
+    *(Column(f"G_{k}", "mu_f t0", f"the energy release rate along the outline: its {k}imum" if k != "mean" else
+             "the energy release rate along the outline: its mean") for k in ("max", "mean", "min")),
+    *(Column(f"excess_{k}", "mu_f t0", f"G - cost along the outline: its {k}imum" if k != "mean" else
+             "G - cost along the outline: its mean") for k in ("max", "mean", "min")),
+    Column("front_x", "1", "where G - cost is largest on the outline (x over R0)"),
+    Column("front_y", "1", "where G - cost is largest on the outline (y over R0)"),
+    Column("R_front", "1", "sqrt(A_debonded / pi) over R0"),
+    Column("front_R_min", "1", "the front's least distance from the initial centroid over R0"),
+    Column("front_R_max", "1", "the front's largest distance from the initial centroid over R0"),
+    Column("front_residual", "1", "the moved front's equilibrium residual over the cost (growth steps)"))
+CLAMPED_COLUMNS = declare(*_MEMBRANE, "s")
+ADHESIVE_COLUMNS = declare(*_MEMBRANE, *_FRONT, "s")
+#: every column the scene may write
+COLUMNS = ADHESIVE_COLUMNS
 EDGES = ("clamped", "adhesive")
 WRINKLES = ("taut", "relaxed")
 MESHES = ("free", "mirrored")
@@ -171,6 +188,8 @@ class Params:
     @property
     def adhesion_cost(self) -> float:
         """w = (gamma_ls - dgamma) / (mu_f t0), per debonded projected area (a uniform dgamma)."""
+        if not isinstance(self.delta_gamma, int | float):
+            raise TypeError(f"--delta-gamma {self.delta_gamma} varies: no single cost of debonding")
         return self.gamma_ls - self.delta_gamma
 
     def material_model(self):

@@ -19,7 +19,9 @@ r"""Adhesion that varies over the substrate, Δγ(x, y), for ``blister-3d --edge
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -72,6 +74,10 @@ class Map:
     """
 
     text: str
+    if TYPE_CHECKING:  # set from the file, not fields (``parameters`` records the text)
+        x: np.ndarray = field(init=False)
+        y: np.ndarray = field(init=False)
+        table: np.ndarray = field(init=False)
 
     def __post_init__(self):
         for name, value in zip(("x", "y", "table"), _read_grid(self.text.split(":", 1)[1])):
@@ -109,7 +115,7 @@ class Map:
 def _read_grid(path: str) -> tuple:
     """(x, y, table) from rows ``x y value`` (whitespace or commas, ``#`` comments) that fill a
     rectangular grid of at least 2 x 2 nodes, each node once (ValueError naming the file and line)."""
-    rows = read_rows(path, "x y value", "map")
+    rows = read_rows(Path(path), "x y value", "map")
     data = np.array(rows).reshape(-1, 3)
     x, y = np.unique(data[:, 0]), np.unique(data[:, 1])
     if len(x) < 2 or len(y) < 2 or len(data) != len(x) * len(y):

@@ -129,7 +129,7 @@ class ReleaseRate:
                 "front_R_min": self.comm.allreduce(float(radius.min(initial=math.inf)), op=MPI.MIN),
                 "front_R_max": self.comm.allreduce(float(radius.max(initial=-math.inf)), op=MPI.MAX)}
 
-    def gather(self):
+    def gather(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(points, G, cost) of the whole outline on every rank, ordered by angle about the
         centroid."""
         points = np.vstack(self.comm.allgather(self.points))

@@ -6,11 +6,16 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from bcfem.run.scene import BranchScene
+
+if TYPE_CHECKING:
+    from bcfem.scenes.blister_3d.release import ReleaseRate
 
 
 def gather_surface(u, fields, comm):
@@ -45,7 +50,7 @@ def membrane_figure(parts, title: str, colour: str = "major tension N1 / (mu t0)
         grid.point_data[colour] = values[:, MEASURES[colour]]
         grids.append(grid)
     surface = grids[0].merge(grids[1:]) if len(grids) > 1 else grids[0]
-    plotter = pyvista.Plotter(off_screen=True, window_size=(1000, 700))
+    plotter = pyvista.Plotter(off_screen=True, window_size=[1000, 700])
     plotter.add_mesh(surface, scalars=colour, cmap="viridis", show_edges=False, scalar_bar_args={"title": colour})
     plotter.view_isometric()
     plotter.set_background("white")
@@ -99,23 +104,21 @@ class MembraneScene(BranchScene):
     adhesive edge, the release rate along the outline there (``release.png``) and the front at
     each step of its growth (``front.png``)."""
 
-    release: object = None  # a bcfem.scenes.blister_3d.release.ReleaseRate, or None
-    after: object = None  # callable(run): a stage after the branch (the front's growth), or None
+    release: ReleaseRate | None = None
+    after: Callable[[Any], None] | None = None  # a stage after the branch (the front's growth), or None
     fronts: list = field(default_factory=list)  # (V/V0, the outline's points) at the onset and each growth step
 
     v0: float = 4.0 * math.pi / 3.0  # the volume of the normalisation V/V0
     follow: bool = False  # trace the branch off the first located bifurcation too (broken.csv)
 
-    stages = ("branch", "stability", "broken", "front")
+    stages = ("branch", "stability", "broken", "front")  # type: ignore[assignment]  # BranchScene infers tuple[str]
 
     def __post_init__(self):
         #: what the figures and tables draw, kept by the solve: the broken branch's rows, the last
         #: state's surface, the front's release rates on the outline
         self._broken: list[dict] | None = None
         self._surface: tuple | None = None
-        self._outline: tuple | None = None
-        if self.columns is not None and "unstable_modes" not in self.columns:
-            self.columns = [*self.columns[:-1], "unstable_modes", self.columns[-1]]
+        self._outline: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def solve(self, run) -> None:
         try:
@@ -149,6 +152,7 @@ class MembraneScene(BranchScene):
         finally:
             run.results.update(self.stability.summary())
         self._report(run, branch)
+        self.ended(run, branch)
         if self.follow and self.stability.modes:
             self._follow(run)
 
@@ -194,8 +198,9 @@ class MembraneScene(BranchScene):
                 self._surface, f"{self.name}{which}: V/V0 = {last['V_over_V0']:.3g}, P = {last['P']:.4g}")
         if self._outline:
             last = rows[-1]
+            points, G, cost = self._outline
             figures["release.png"] = release_figure(
-                *self._outline, f"V/V0 = {last['V_over_V0']:.4g}, P = {last['P']:.4g}")
+                points, G, cost, f"V/V0 = {last['V_over_V0']:.4g}, P = {last['P']:.4g}")
         if len(self.fronts) > 1:
             figures["front.png"] = fronts_figure(self.fronts, f"{self.name}: the debond front as it grows")
         return figures

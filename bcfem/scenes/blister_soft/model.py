@@ -55,6 +55,7 @@ from bcfem.kinematics.submesh import BoundaryPatch
 from bcfem.kinematics.surfaces import LiquidGap, MembraneSurface
 from bcfem.mpi import PointEvaluator, cell_maximum, global_sum, real_value
 from bcfem.path.branch import Switch
+from bcfem.path.terminations import Reaches
 from bcfem.physics.bcs import component
 from bcfem.physics.composite import OnSurface, Scaled
 from bcfem.physics.context import Context
@@ -306,7 +307,7 @@ def build(params: Params, comm, data=None, extra_terms=()) -> BranchScene:
     scene = SoftScene(
         name="blister-soft", ctx=model.ctx, terms=model.terms, bcs=model.bcs, load="pressure",
         start=lambda fraction: model.cap_guess(fraction * params.v_start), observe=observe,
-        end=lambda values: values["V_over_V0"] - params.v_max, grows="V_over_V0",
+        end=Reaches("V_over_V0", params.v_max), grows="V_over_V0",
         progress_keys=("V_over_V0", "P", "indentation"), fields=[model.u, model.w],
         continuation=params.continuation,
         plots={"pv.png": ("V_over_V0", "P", "V/V0", "P = Δp R0/(μf t0)"),
@@ -321,7 +322,6 @@ def build(params: Params, comm, data=None, extra_terms=()) -> BranchScene:
     scene.norm = {"displacement": 1.0, "lift": 1.0}
     scene.mean = model.free.mean
     scene.model = model
-    scene.observe_all = observe_all
     return scene
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from bcfem.columns import Column, declare
 from bcfem.geometry.substrate import SubstrateGeometry
 from bcfem.params import Bound, ContinuationParams, check_bounds, check_meshable, describe, flags_named, require
 from bcfem.physics.materials import MATERIALS
@@ -83,9 +84,19 @@ HELP = {
     "refine": "halve every element size this many times",
     "kappa_ratio": "bulk over shear modulus of the substrate",
 }
-COLUMNS = ["V_over_V0", "P", "aspect", "contact_angle_deg", "indentation", "r1_over_R0", "energy",
-           "z_apex", "R1_over_R0", "liquid_angle_deg", "substrate_angle_deg", "membrane_angle_deg", "J_min",
-           "compressed_fraction", "s"]
+COLUMNS = declare(
+    "V_over_V0", "P", Column("aspect", "1", "the apex height z_f(0) over the current contact radius r0"),
+    "contact_angle_deg", Column("indentation", "1", "the substrate's depression at the axis, -z_s(0) / R0"),
+    "r1_over_R0",
+    Column("energy", "pi R0^2 mu_f t0", "free energy less the substrate's surface energies at rest, over "
+           "pi R0^2 mu_f t0"),
+    Column("z_apex", "1", "the apex height z_f(0) over R0"), "R1_over_R0",
+    Column("liquid_angle_deg", "deg", "the liquid's wedge at the contact line"),
+    Column("substrate_angle_deg", "deg", "the substrate's wedge at the contact line"),
+    Column("membrane_angle_deg", "deg", "the angle between the free and the bonded membrane at the contact line"),
+    Column("J_min", "1", "the substrate's smallest volume ratio (> 0: not inverted)"),
+    Column("compressed_fraction", "1", "the free membrane's area fraction with a negative principal tension"),
+    "s")
 EDGES = ("bonded", "adhesive")
 #: half-width of the region around the contact line that the moving front translates, in R0
 FRONT_PLATEAU = 0.25

@@ -15,6 +15,9 @@ traced back as far as it goes.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 from bcfem.log import logger
 from bcfem.path.continuation import ArcLength, ContinuationError
 from bcfem.radial_profile import scale_of
@@ -37,8 +40,8 @@ class SoftScene(BranchScene):
     back to ``v_start`` where it can be: hooks of :func:`bcfem.run.runner.trace`."""
 
     norm: dict | None = None
-    mean: object = None
-    model: object = None
+    mean: Callable | None = None
+    model: Any = None
     #: set by the trace: None, or where the branch begins when it cannot reach ``v_start``
     start_report: dict | None = None
 

@@ -37,11 +37,11 @@ def build(params: Params, comm, *, extra_terms=(), model_class=None):
     """The crater scene (meshed when solved), for :mod:`bcfem.run.runner`. ``extra_terms``: a
     research script's terms, added to every stage they belong to; ``model_class``: a subclass of
     :class:`~bcfem.scenes.crater.model.Crater` (another geometry)."""
-    if params.path == "fundamental":
-        from bcfem.scenes.crater.fundamental import FundamentalCycle as Cycle
-    else:
-        from bcfem.scenes.crater.stages import CraterCycle as Cycle
-    scene = Cycle(params, comm, *(model_class,) if model_class else ())
+    from bcfem.scenes.crater.fundamental import FundamentalCycle
+    from bcfem.scenes.crater.stages import CraterCycle
+
+    cycle = FundamentalCycle if params.path == "fundamental" else CraterCycle
+    scene = cycle(params, comm, *(model_class,) if model_class else ())
     scene.extra_terms = tuple(extra_terms)
     return scene
 

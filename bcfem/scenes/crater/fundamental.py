@@ -25,40 +25,40 @@ from bcfem.mpi import global_sum
 from bcfem.params import ContinuationParams
 from bcfem.path.continuation import ArcLength, ContinuationError
 from bcfem.path.stepping import LoadPath
+from bcfem.path.terminations import PLATEN_FORCE_ZERO, AnyOf, Reaches, Termination
 from bcfem.physics.fluids import FLUIDS, Vacuum
-from bcfem.run.stages import Stage, StagedScene
+from bcfem.run.stages import Ended, Stage
 from bcfem.scenes.crater.model import Crater
-from bcfem.scenes.crater.params import CLOSURE_CRITERIA, COLUMNS, MAX_CLOSURE_PRELOAD, PRELOAD_TO_CLOSURE, Params
-from bcfem.scenes.crater.report import finish, plot
+from bcfem.scenes.crater.params import (
+    CLOSURE_CRITERIA,
+    FUNDAMENTAL_COLUMNS,
+    MAX_CLOSURE_PRELOAD,
+    PRELOAD_TO_CLOSURE,
+    Params,
+)
+from bcfem.scenes.crater.report import Cycle, finish
 from bcfem.scenes.crater.seal import seal
-from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
+from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS, CraterScene
 
 #: the load parameter: the platen's displacement (mm; compression < 0)
 PARAMETER = "platen_displacement"
 
 
-def closure(values: dict) -> float:
-    """>= 0 once the crater counts as closed (the criteria of ``--preload closure``)."""
-    c, V, A = CLOSURE_CRITERIA, values["V_over_V0"], values["A_over_A0"]
-    return max(c.volume - V, min(c.trapped - V, c.area - A))
-
-
-class FundamentalCycle(StagedScene):
+class FundamentalCycle(CraterScene):
     """The crater scene on its fundamental branch: the stages ``load`` and ``unload``, each
     traced by arc-length in the platen's displacement (:meth:`plan`)."""
 
-    name = "crater"
-    stages = ("load", "unload")
-    columns = (*COLUMNS, "s", "unstable", "unstable_waves")
+    columns = FUNDAMENTAL_COLUMNS
 
     def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
-        self.params = params
-        self.comm = comm
-        self.model_class = model_class
-        self.model: Crater | None = None
+        super().__init__(params, comm, model_class)
+        self.folds: list[dict] = []
 
-    def figures(self, rows, summary) -> dict:
-        return {"cycle.png": plot(rows, summary)}
+    def solve(self, run) -> None:
+        try:
+            super().solve(run)
+        finally:
+            run.results.update(self.cycle.partial(), folds=self.folds)
 
     def continuation(self) -> ContinuationParams:
         """Steps in the strain-like norm (lengths over H), at most ``strain_step``: longer steps
@@ -70,79 +70,86 @@ class FundamentalCycle(StagedScene):
     # -- the plan -------------------------------------------------------------------------
     @property
     def problem_options(self) -> dict:
-        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.model.energy_scale,
+        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.crater.energy_scale,
                     line_search_fallbacks=LINE_SEARCH_FALLBACKS, rows=self.arc.rows())
 
     def setup(self, run) -> None:
-        model = self.model = self.model_class(self.params, self.comm)
+        model = self.model = self.model_class(self.params.specimen(), self.comm)
         run.watch([model.u])
-        self.events: list[dict] = []
-        self.folds: list[dict] = []
-        run.results.update(instabilities=self.events, folds=self.folds, retraced=None)
+        self.cycle, self.folds = Cycle(), []
+        run.results.update(retraced=None, folds=self.folds, **self.cycle.partial())
         H = self.params.specimen_height
         self.arc = ArcLength(model.ctx, PARAMETER, self.continuation(), load_scale=H, norm={"displacement": H})
-        self.run = run
 
     def plan(self) -> list[Stage]:
-        return [Stage("load", terms=self._terms, prepare=self.model.contact_bounds, drive=self._load,
-                      ends="at the preload, at closure, or at eps = 0.85"),
+        return [Stage("load", terms=self._terms, prepare=self.crater.contact_bounds, drive=self._load,
+                      until=self.loaded),
                 Stage("unload", enter=self._seal, terms=lambda: self._terms(self.fluid),
-                      prepare=self.model.contact_bounds, drive=self._unload, ends="at zero platen force")]
+                      prepare=self.crater.contact_bounds, drive=self._unload, until=PLATEN_FORCE_ZERO)]
+
+    @property
+    def loaded(self) -> Termination:
+        """The load stage's end: the preload, closure, or eps = 0.85."""
+        preload = self.params.preload
+        end_strain = MAX_CLOSURE_PRELOAD if preload == PRELOAD_TO_CLOSURE else preload
+        return AnyOf((Reaches("eps", end_strain), CLOSURE_CRITERIA))
 
     def _terms(self, *fluids) -> list:
         """The model's terms without the viscous one: the branch is followed, not relaxed."""
-        return [t for t in self.model.terms(*fluids) if t is not self.model.viscosity]
+        return [t for t in self.crater.terms(*fluids) if t is not self.crater.viscosity]
 
-    def _load(self, problem, run) -> None:
-        params = self.params
-        end_strain = MAX_CLOSURE_PRELOAD if params.preload == PRELOAD_TO_CLOSURE else params.preload
-        self._trace(run, self.arc, problem, "load", None, self.events, self.folds,
-                    end=lambda v: max(v["eps"] - end_strain, closure(v)), direction=-1)
+    def _load(self, problem, run) -> Ended:
+        self._trace(run, self.arc, problem, "load", None, end=self.loaded, direction=-1)
         self.load_end = run.rows[-1]
+        return Ended(f"{'closed' if CLOSURE_CRITERIA.reached(self.load_end) else 'loaded'} at eps = "
+                     f"{self.load_end['eps']:.6g}")
 
-    def _seal(self) -> bool:
-        """Seal at the end of loading; False (no unloading) for a liquid crater that closed."""
-        model, load_end = self.model, self.load_end
-        self.V1, self.preload = load_end["V"], load_end["eps"]
-        self.closes = closure(load_end) >= -1e-8  # the end is located to event_tol: within round-off of 0
-        self.sealing = seal(model, self.V1, self.closes, cavitates=False)
-        if self.sealing.stays_closed:
-            self.final = self.sealing.final_closed(model, self.preload)
-            self.final.update(s=load_end["s"], platen_force=load_end["platen_force"], unstable=load_end["unstable"])
-            return False
-        closed = self.sealing.closed
-        self.fluid = Vacuum(model.cavity) if closed else FLUIDS[self.params.fluid](model.cavity, self.V1)
-        return True
+    def _seal(self, run) -> str | None:
+        """Seal at the end of loading; a liquid crater that closed is not unloaded (the reason)."""
+        model, load_end, cycle = self.crater, self.load_end, self.cycle
+        cycle.V1, cycle.preload = load_end["V"], load_end["eps"]
+        # the end is located to event_tol: within round-off of 0
+        cycle.closes = CLOSURE_CRITERIA.measure(load_end) >= -1e-8
+        sealing = cycle.sealing = seal(model, cycle.V1, cycle.closes, self.params.fluid, cavitates=False)
+        cycle.zero_force = cycle.preload
+        if sealing.stays_closed:
+            cycle.final = sealing.final_closed(model, cycle.preload)
+            cycle.final.update(s=load_end["s"], platen_force=load_end["platen_force"], unstable=load_end["unstable"])
+            cycle.final_unstable = load_end["unstable"]
+            return "a closed liquid crater stays closed: F = 0 (eq. 8.8)"
+        self.fluid = Vacuum(model.cavity) if sealing.closed else FLUIDS[self.params.fluid](model.cavity, cycle.V1)
+        return None
 
-    def _unload(self, problem, run) -> None:
-        model, H = self.model, self.params.specimen_height
-        if self.sealing.closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
-            self.arc.hold(problem, -self.preload * H)
+    def _unload(self, problem, run) -> Ended:
+        model, H, cycle = self.crater, self.params.specimen_height, self.cycle
+        if cycle.sealed.closed:  # the suction of a closed crater jumps from 0 to p_a: ramp it at fixed platen
+            self.arc.hold(problem, -cycle.preload * H)
             ramp = model.ctx.constant("vacuum_load")
             sealing = LoadPath(problem, lambda s: setattr(ramp, "value", s), "seal", check_stability=False,
                                load_name="vacuum_ramp")
             sealing.start()
             sealing.advance(0.0, 1.0, 0.25)
-        self._trace(run, self.arc, problem, "unload", self.sealing.sealed_volume, self.events,
-                    self.folds, end=lambda v: v["platen_force"], direction=1)
-        self.final = run.rows.pop()
+        self._trace(run, self.arc, problem, "unload", cycle.sealed.sealed_volume, end=PLATEN_FORCE_ZERO,
+                    direction=1)
+        cycle.final = run.rows.pop()
+        cycle.zero_force, cycle.final_unstable = cycle.final["eps"], cycle.final["unstable"]
+        return Ended(f"zero platen force at eps = {cycle.zero_force:.6g}")
 
     def finish(self, run) -> None:
-        final = self.final
-        ended = self.preload if self.sealing.stays_closed else final["eps"]
-        finish(run, self.model, final, self.V1, self.sealing.closed, self.preload, ended, self.events,
-               final["unstable"])
-        if not self.sealing.stays_closed:
-            run.results["eps_m"] = self.preload if self.params.preload == PRELOAD_TO_CLOSURE and self.closes else None
+        cycle = self.cycle
+        finish(run, self.params, self.crater, cycle)
+        if not cycle.sealed.stays_closed:
+            run.results["eps_m"] = cycle.preload if self.params.preload == PRELOAD_TO_CLOSURE and cycle.closes else None
 
-    def _trace(self, run, arc, problem, stage: str, V1, events, folds, end, direction: int) -> None:
+    def _trace(self, run, arc, problem, stage: str, V1, end, direction: int) -> None:
         """Follow the branch from the current state (its platen held) until ``end`` turns >= 0,
         recording every accepted point in ``run`` with its unstable modes."""
-        model, H = self.model, self.params.specimen_height
+        model, H, events = self.crater, self.params.specimen_height, self.cycle.events
         w = model.platen_state
         arc.hold(problem, -model.platen_strain() * H)
         if not problem.solve():
             raise ContinuationError(f"{stage}: no converged state at the start of the branch ({problem.failure})")
+        assert w is not None, "the fundamental path's platen displacement is a state"
         unit = fem.Function(w.function_space)
         unit.x.array[:] = 1.0
         force = fem.form(ufl.derivative(problem.lagrangian, w, unit))  # compression < 0
@@ -166,10 +173,10 @@ class FundamentalCycle(StagedScene):
             branch = arc.trace(problem, observe, end, ("eps", "V_over_V0", "A_over_A0", "unstable"),
                                on_accept=accept, direction=direction)
         except ContinuationError as error:
-            self._report(error.branch, arc, stage, events, folds, run)
+            self._report(error.branch, arc, stage, events, self.folds, run)
             raise ContinuationError(f"{stage}: the branch cannot be followed past eps = "
                                     f"{model.platen_strain():.6g}: {error}") from None
-        self._report(branch, arc, stage, events, folds, run)
+        self._report(branch, arc, stage, events, self.folds, run)
 
     @staticmethod
     def _report(branch, arc, stage: str, events: list, folds: list, run) -> None:

@@ -34,7 +34,7 @@ from bcfem.physics.context import Context
 from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.physics.materials import NearlyIncompressibleNeoHookean
 from bcfem.physics.viscosity import Viscosity
-from bcfem.scenes.crater.params import ELEMENTS, Params
+from bcfem.scenes.crater.params import ELEMENTS, Specimen
 from bcfem.stability.modes import ModeAnalysis
 
 #: the facet tag of the bottom face inside the seal's reach (``bottom = contact``)
@@ -63,9 +63,9 @@ class Crater:
     def create_mesh(geometry, comm):
         return create_mesh(geometry, comm)
 
-    def __init__(self, params: Params, comm):
+    def __init__(self, params: Specimen, comm):
         self.params = params
-        geometry = params.geometry()
+        geometry = params.geometry
         self.geometry = geometry
         data = self.create_mesh(geometry, comm)
         msh, facets = data.mesh, data.facet_tags

@@ -8,9 +8,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
+from bcfem.columns import Column, declare
 from bcfem.geometry.crater import CraterGeometry
 from bcfem.params import Bound, check_bounds, describe, flags_named, require
+from bcfem.path.terminations import Termination
 
 SUMMARY = "air- or liquid-filled crater pressed on a rigid plate: the suction cycle (ch. 7-8)"
 DESCRIPTION = """\
@@ -74,8 +77,44 @@ MAX_LIFT = 0.1
 
 
 @dataclass(frozen=True)
-class ClosureCriteria:
-    """When a crater counts as closed (volumes over V0, areas over A0).
+class Specimen:
+    """What a crater model is built from (:class:`bcfem.scenes.crater.model.Crater`): the
+    geometry, the material, the elements, the bottom face, the path and the checks it carries.
+    Each scene's parameters give their own (``Params.specimen()``); a model reads nothing else.
+
+    Attributes:
+        geometry: the dimensions and mesh sizes (:class:`~bcfem.geometry.crater.CraterGeometry`,
+            or a subclass model's own).
+        beta: mu / p_a.
+        kappa_ratio: bulk over shear modulus.
+        specimen_height: H (the platen strain's length).
+        surface_energy: gamma_s / (mu a).
+        layer_thickness, layer_stiffness: the reinforcing layer (0: none) and its modulus over mu.
+        self_contact: the wall's self-contact penalty (0: off).
+        waves: check the modes with 1..waves circumferential waves (0: off).
+        element: the displacement-pressure element (``p2p1``, ...).
+        bottom: the bottom face outside the crater: ``held`` or ``contact``.
+        path: ``stable`` (load steps, relaxed snaps) or ``fundamental`` (arc-length in w).
+    """
+
+    geometry: Any
+    beta: float
+    kappa_ratio: float
+    specimen_height: float
+    surface_energy: float = 0.0
+    layer_thickness: float = 0.0
+    layer_stiffness: float = 1.0
+    self_contact: float = 0.0
+    waves: int = 0
+    element: str = "p2p1"
+    bottom: str = "held"
+    path: str = "stable"
+
+
+@dataclass(frozen=True)
+class ClosureCriteria(Termination):
+    """When a crater counts as closed (volumes over V0, areas over A0); as a termination, a
+    loading that ends at closure (``V_over_V0`` and ``A_over_A0`` of a row).
 
     Attributes:
         closed: V <= closed V0 is a closed crater (vacuum inside).
@@ -90,10 +129,25 @@ class ClosureCriteria:
     area: float = 2.5e-3
     trapped: float = 1e-2
 
+    def measure(self, row: dict) -> float:
+        V, A = row["V_over_V0"], row["A_over_A0"]
+        return max(self.volume - V, min(self.trapped - V, self.area - A))
+
+    def __str__(self) -> str:
+        return (f"closure (V <= {self.volume:g} V0, or V <= {self.trapped:g} V0 with the wall on the plate to "
+                f"within sqrt({self.area:g}) a of the axis)")
+
 
 CLOSURE_CRITERIA = ClosureCriteria()
 #: the columns of ``branch.csv``
-COLUMNS = ["stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde", "F_hat", "platen_force"]
+CYCLE_COLUMNS = declare("stage", "eps", "V_over_V0", "p_over_pa", "A_over_A0", "F_tilde",
+                        Column("F_hat", "mu A0", "suction force over mu A0, F_tilde / beta"), "platen_force")
+#: the fundamental path's (``--path fundamental``)
+FUNDAMENTAL_COLUMNS = declare(
+    *CYCLE_COLUMNS, "s", Column("unstable", "1", "the unstable axisymmetric modes at fixed platen"),
+    Column("unstable_waves", "", "the unstable modes of each n-wave block, n = 1..waves"))
+#: every column the scene may write
+COLUMNS = FUNDAMENTAL_COLUMNS
 #: the stability classes, in the order of ``stability_code``
 STABILITY = ["stable", "unstable-unloading", "unstable-both"]
 
@@ -200,6 +254,12 @@ class Params:
                 f"--specimen-height must be at most 100 crater radii (got {self.specimen_height / a:g} a)")
         with flags_named(self):
             self.geometry()  # the crater inside the specimen: ValueError naming it, before any meshing
+
+    def specimen(self) -> Specimen:
+        """What the crater model is built from."""
+        return Specimen(self.geometry(), self.beta, self.kappa_ratio, self.specimen_height, self.surface_energy,
+                        self.layer_thickness, self.layer_stiffness, self.self_contact, self.waves, self.element,
+                        self.bottom, self.path)
 
     def geometry(self) -> CraterGeometry:
         element = ELEMENTS[self.element]

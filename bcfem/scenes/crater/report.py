@@ -3,18 +3,67 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
-from bcfem.scenes.crater.params import CLOSURE_CRITERIA, PRELOAD_TO_CLOSURE
+from bcfem.scenes.crater.params import CLOSURE_CRITERIA, PRELOAD_TO_CLOSURE, Params
+from bcfem.scenes.crater.seal import Sealing
 from bcfem.theory.crater import permeation_estimate
 
 
-def finish(run, model, final: dict, V1: float, closed: bool, preload: float, zero_force: float,
-           events: list, final_unstable: int, recorded: bool = False, vapour: bool = False) -> None:
+@dataclass
+class Cycle:
+    """What a crater cycle's stages find, in the order they find it: one record per trace, kept
+    by the scene and read by :func:`finish`.
+
+    Attributes:
+        events: instabilities (inertia changes, snaps, folds), in path order.
+        phase_changes: the sealed liquid's cavitation and collapse events.
+        preload: the strain at the seal.
+        closes: the load stage ended at a located closure.
+        V1: the crater's volume at the seal.
+        sealing: what the seal holds (None before it).
+        vapour: the sealed liquid holds its vapour pressure now.
+        start: where the unloading (re)starts: the preload, or the last phase change.
+        zero_force: the strain at zero platen force (the preload for a crater that stays closed).
+        final: the cycle's row at zero platen force.
+        final_unstable: the unstable axisymmetric modes there (> 0: F is that of an unstable
+            equilibrium, a saddle).
+    """
+
+    events: list[dict] = field(default_factory=list)
+    phase_changes: list[dict] = field(default_factory=list)
+    preload: float = 0.0
+    closes: bool = False
+    V1: float = 0.0
+    sealing: Sealing | None = None
+    vapour: bool = False
+    start: float = 0.0
+    zero_force: float = 0.0
+    final: dict = field(default_factory=dict)
+    final_unstable: int = 0
+
+    @property
+    def sealed(self) -> Sealing:
+        if self.sealing is None:
+            raise RuntimeError("the crater is not sealed yet")
+        return self.sealing
+
+    @property
+    def cavitation(self) -> dict | None:
+        """The first cavitation, or None."""
+        return next((e for e in self.phase_changes if e["kind"] == "cavitation"), None)
+
+    def partial(self) -> dict:
+        """The summary entries a failed cycle reports too."""
+        return {"instabilities": self.events, "phase_changes": self.phase_changes, "cavitation": self.cavitation}
+
+
+def finish(run, params: Params, model, cycle: Cycle, recorded: bool = False) -> None:
     """Record the cycle's zero-force row (unless ``recorded``: a retraction went on from it) and
-    its results in ``run``; ``final_unstable``: the unstable axisymmetric modes of the final
-    state (> 0: F is that of an unstable equilibrium, a saddle); ``vapour``: a liquid that ends
-    cavitated, at its held vapour pressure."""
-    params, geometry = model.params, model.geometry
+    its results in ``run`` (``params``: the crater scene's)."""
+    geometry = model.geometry
+    final, V1, closed, preload = cycle.final, cycle.V1, cycle.sealed.closed, cycle.preload
+    events, vapour = cycle.events, cycle.vapour
     if not recorded:
         run.record(final)
     for row in run.rows:
@@ -23,7 +72,7 @@ def finish(run, model, final: dict, V1: float, closed: bool, preload: float, zer
         "F_tilde": final["F_tilde"], "F_hat": final["F_tilde"] / params.beta,
         "V1_over_V0": V1 / geometry.crater_volume,
         "V2_over_V0": final["V_over_V0"], "p2_over_pa": final["p_over_pa"], "A2_over_A0": final["A_over_A0"],
-        "preload": preload, "eps_at_zero_force": zero_force,
+        "preload": preload, "eps_at_zero_force": cycle.zero_force,
         # the fluid's equation of state at the end of stage 2: p V = V1 (air), V = V1 (liquid);
         # a cavitated liquid's p = p_v holds exactly (its pressure is not an unknown)
         "fluid_law_residual": 0.0 if closed or vapour else
@@ -32,10 +81,10 @@ def finish(run, model, final: dict, V1: float, closed: bool, preload: float, zer
         "eps_m": preload if params.preload == PRELOAD_TO_CLOSURE and closed else None,
         "closure_note": closure_note(params, closed, preload, V1 / geometry.crater_volume, final["V_over_V0"]),
         "stability": classify(events),
-        "final_unstable_modes": final_unstable,
+        "final_unstable_modes": cycle.final_unstable,
         "symmetry_breaking": symmetry_breaking(events) if params.waves else None,
         "stability_waves": classify([e for e in events if e.get("breaks_symmetry")]) if params.waves else None,
-        "instabilities": events,
+        **cycle.partial(),
         "surface_energy": params.surface_energy,
         "gas_permeation": permeation_estimate(1 - final["p_over_pa"], geometry.crater_radius)
         if params.fluid == "air" else None,

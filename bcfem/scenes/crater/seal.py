@@ -34,11 +34,11 @@ class Sealing:
         return {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
 
 
-def seal(model, V1: float, closes: bool, cavitates: bool) -> Sealing:
+def seal(model, V1: float, closes: bool, fluid: str, cavitates: bool) -> Sealing:
     """Seal the crater at the end of loading (its volume V1; ``closes``: the load stage ended
-    at a located closure; ``cavitates``: a liquid that can cavitate). An open crater's fluid
-    starts at p_a."""
+    at a located closure; ``fluid``: ``air`` or ``liquid``; ``cavitates``: a liquid that can
+    cavitate). An open crater's fluid starts at p_a."""
     closed = V1 <= CLOSURE_CRITERIA.closed * model.geometry.crater_volume or closes
     if not closed:
         model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
-    return Sealing(V1, closed, closed and model.params.fluid == "liquid" and not cavitates)
+    return Sealing(V1, closed, closed and fluid == "liquid" and not cavitates)

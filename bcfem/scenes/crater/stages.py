@@ -31,19 +31,20 @@ from dolfinx import fem
 from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
 from bcfem.path.stepping import LoadPath, SteppingError
+from bcfem.path.terminations import PLATEN_FORCE_ZERO, Described, Reaches
 from bcfem.physics.cavitation import BISECTIONS, change_phase, liquid_or_vapour, phase_change
 from bcfem.physics.fluids import FLUIDS, Vacuum
-from bcfem.run.stages import Stage, StagedScene
+from bcfem.run.stages import Ended, Stage, StagedScene
 from bcfem.scenes.crater.model import Crater
 from bcfem.scenes.crater.params import (
     CLOSURE_CRITERIA,
-    COLUMNS,
+    CYCLE_COLUMNS,
     MAX_CLOSURE_PRELOAD,
     MAX_LIFT,
     PRELOAD_TO_CLOSURE,
     Params,
 )
-from bcfem.scenes.crater.report import finish, plot
+from bcfem.scenes.crater.report import Cycle, finish, plot
 from bcfem.scenes.crater.seal import seal
 
 #: full Newton steps can cycle between two contact active sets; backtracking breaks the
@@ -54,10 +55,11 @@ LINE_SEARCH_FALLBACKS = ("bt", "cp")
 CAREFUL = {"snes_max_it": 80}
 
 
-class CraterCycle(StagedScene):
-    """The crater scene: a :class:`Crater` model driven through the stages ``load`` (vent
-    open) and ``unload`` (sealed; entered again when its liquid changes phase), planned as
-    data (:meth:`plan`) and run by :class:`bcfem.run.stages.StagedScene`.
+class CraterScene(StagedScene):
+    """The crater scene's two paths (:class:`CraterCycle`, and the fundamental branch's
+    :class:`~bcfem.scenes.crater.fundamental.FundamentalCycle`): a :class:`Crater` model driven
+    through the stages ``load`` (vent open) and ``unload`` (sealed); what the stages find is
+    one record, :class:`~bcfem.scenes.crater.report.Cycle`.
 
     Args:
         params: the scene's parameters.
@@ -66,15 +68,36 @@ class CraterCycle(StagedScene):
             :mod:`bcfem.scenes.crater.frames`).
     """
 
+    params: Params
     name = "crater"
     stages = ("load", "unload")
-    columns = COLUMNS
 
     def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
         self.params = params
         self.comm = comm
         self.model_class = model_class
         self.model: Crater | None = None
+        self.cycle = Cycle()
+
+    @property
+    def crater(self) -> Crater:
+        """The model, once built."""
+        if self.model is None:
+            raise RuntimeError("the crater's model is built by setup()")
+        return self.model
+
+    def figures(self, rows, summary) -> dict:
+        return {"cycle.png": plot(rows, summary)}
+
+
+class CraterCycle(CraterScene):
+    """The crater's stable path: load steps, snaps passed by relaxation; ``unload`` is entered
+    again when its liquid changes phase (:meth:`plan`)."""
+
+    columns = CYCLE_COLUMNS
+
+    def __init__(self, params: Params, comm, model_class: type[Crater] = Crater):
+        super().__init__(params, comm, model_class)
         #: Newton steps bounded to keep the wall admissible (the retrace of a failed cycle)
         self.careful = False
 
@@ -94,116 +117,118 @@ class CraterCycle(StagedScene):
                 raise SteppingError(f"{again} (traced again with bounded Newton steps; the first trace: "
                                     f"{failure})", again.reached) from None
             run.results["retraced"] = str(failure)
-
-    def figures(self, rows, summary) -> dict:
-        return {"cycle.png": plot(rows, summary)}
+        finally:
+            run.results.update(self.cycle.partial())
 
     # -- the plan -------------------------------------------------------------------------
     @property
     def problem_options(self) -> dict:
         return dict(petsc_options={"snes_type": "vinewtonrsls", **(CAREFUL if self.careful else {})},
-                    energy_scale=self.model.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
+                    energy_scale=self.crater.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
 
     def setup(self, run) -> None:
-        model = self.model = self.model_class(self.params, self.comm)
+        model = self.model = self.model_class(self.params.specimen(), self.comm)
         run.watch([model.u])
-        self.events: list[dict] = []
-        self.phase_changes: list[dict] = []
-        self.vapour = False
-        run.results.update(instabilities=self.events, retraced=None, phase_changes=self.phase_changes,
-                           cavitation=None)
-        self.run = run
+        self.cycle = Cycle()
+        run.results.update(retraced=None, **self.cycle.partial())
 
     def plan(self) -> list[Stage]:
+        p = self.params
+        load_ends = CLOSURE_CRITERIA if p.preload == PRELOAD_TO_CLOSURE else Reaches("eps", p.preload)
         return [
-            Stage("load", terms=self.model.terms, prepare=self._prepare, drive=self._load,
-                  ends="at the preload, or at closure (--preload closure)"),
+            Stage("load", terms=self.crater.terms, prepare=self._prepare, drive=self._load, until=load_ends),
             Stage("unload", enter=self._seal, terms=self._sealed_terms, prepare=self._prepare, drive=self._unload_stage,
-                  ends="at zero platen force (then, with --retract, at pull-off); entered again where the "
-                       "liquid cavitates or its vapour collapses"),
+                  until=PLATEN_FORCE_ZERO if p.retract == 0 else
+                  Described(f"zero platen force, then pull-off (up to eps = -{p.retract:g})")),
         ]
 
     def _prepare(self, problem) -> None:
-        self.model.contact_bounds(problem)
+        self.crater.contact_bounds(problem)
         if self.careful:
             problem.bound_steps()
 
     def _path(self, problem, stage: str) -> LoadPath:
         beta, a = self.params.beta, self.params.crater_radius
-        return LoadPath(problem, self.model.set_platen, stage, self.model.viscosity, beta / a**2,
-                        events=self.events, max_snaps=self.params.max_snaps,
-                        waves=self.model.wave_check(problem, problem.terms), load_name="eps")
+        model = self.crater
+        return LoadPath(problem, model.set_platen, stage, model.viscosity, beta / a**2,
+                        events=self.cycle.events, max_snaps=self.params.max_snaps,
+                        waves=model.wave_check(problem, problem.terms), load_name="eps")
 
-    def _load(self, problem, run) -> None:
-        params, model = self.params, self.model
+    def _load(self, problem, run) -> Ended:
+        params, model, cycle = self.params, self.crater, self.cycle
         with model.measuring(problem):
-            path = self.path = self._path(problem, "load")
+            path = self._path(problem, "load")
             run.record(model.observe("load", 0.0))
             path.start()
             if params.preload == PRELOAD_TO_CLOSURE:
-                self.preload, self.closes = load_to_closure(model, path, run)
+                cycle.preload, cycle.closes = load_to_closure(model, path, run, params.strain_step)
             else:
-                self.preload, self.closes = params.preload, False
-                path.through(0.0, self.preload, params.strain_step, lambda e: run.record(model.observe("load", e)))
+                cycle.preload, cycle.closes = params.preload, False
+                path.through(0.0, cycle.preload, params.strain_step, lambda e: run.record(model.observe("load", e)))
+            cycle.final_unstable = path.unstable
+        why = "closed" if cycle.closes else "still open" if params.preload == PRELOAD_TO_CLOSURE else "preloaded"
+        return Ended(f"{why} at eps = {cycle.preload:.6g}")
 
-    def _seal(self) -> bool:
-        """Seal the crater at the preload; False (no unloading) for a crater that stays closed."""
-        params, model, run = self.params, self.model, self.run
-        self.V1 = run.rows[-1]["V"]
+    def _seal(self, run) -> str | None:
+        """Seal the crater at the preload; a crater that stays closed is not unloaded (the reason)."""
+        params, model, cycle = self.params, self.crater, self.cycle
+        cycle.V1 = run.rows[-1]["V"]
         cavitates = params.fluid == "liquid" and params.cavitation != -math.inf
-        self.sealing = seal(model, self.V1, self.closes, cavitates)
-        self.start = self.preload
-        self.ended: float | dict = self.preload
-        if self.sealing.stays_closed:
-            self.final = self.sealing.final_closed(model, self.preload)
-            return False
-        if self.sealing.closed and cavitates:  # no liquid left to hold the wall down: vapour at p_v once it lifts
-            self.vapour = True
-            self.phase_changes.append({"stage": "unload", "kind": "cavitation", "eps": self.preload, "bracket": 0.0,
-                                       "p_over_pa": params.cavitation,
-                                       "V_over_V0": self.V1 / model.geometry.crater_volume,
-                                       "detail": "closed on loading: the cavity holds vapour at p_v from the seal"})
-            run.results["cavitation"] = self.phase_changes[0]
-        return True
+        sealing = cycle.sealing = seal(model, cycle.V1, cycle.closes, params.fluid, cavitates)
+        cycle.start = cycle.zero_force = cycle.preload
+        if sealing.stays_closed:
+            cycle.final = sealing.final_closed(model, cycle.preload)
+            return "a closed liquid crater that cannot cavitate stays closed: F = 0 (eq. 8.8)"
+        if sealing.closed and cavitates:  # no liquid left to hold the wall down: vapour at p_v once it lifts
+            cycle.vapour = True
+            cycle.phase_changes.append({
+                "stage": "unload", "kind": "cavitation", "eps": cycle.preload, "bracket": 0.0,
+                "p_over_pa": params.cavitation, "V_over_V0": cycle.V1 / model.geometry.crater_volume,
+                "detail": "closed on loading: the cavity holds vapour at p_v from the seal"})
+        return None
 
     def _sealed_terms(self) -> list:
         """The model with its sealed fluid in its current phase (one problem per phase)."""
-        params, model = self.params, self.model
-        fluid = Vacuum(model.cavity) if self.sealing.closed else liquid_or_vapour(
-            FLUIDS[params.fluid], model.cavity, self.V1, "fluid_pressure", self.vapour, params.cavitation)
+        params, model, cycle = self.params, self.crater, self.cycle
+        fluid = Vacuum(model.cavity) if cycle.sealed.closed else liquid_or_vapour(
+            FLUIDS[params.fluid], model.cavity, cycle.V1, "fluid_pressure", cycle.vapour, params.cavitation)
         return model.terms(fluid)
 
-    def _unload_stage(self, problem, run) -> bool:
-        """Retract to zero platen force (and on, with --retract); True where the liquid changed
-        phase first: the stage is entered again from there with the new phase's term."""
-        params, model, V1_sealed = self.params, self.model, self.sealing.sealed_volume
+    def _unload_stage(self, problem, run) -> Ended:
+        """Retract to zero platen force (and on, with --retract); entered again where the liquid
+        changes phase first, with the new phase's term."""
+        params, model, cycle = self.params, self.crater, self.cycle
+        V1_sealed = cycle.sealed.sealed_volume
         with model.measuring(problem) as platen_force:
-            path = self.path = self._path(problem, "unload")
-            if self.start != self.preload:  # the state at the phase change, with the new phase's term
-                if not path.solve_at(self.start, fallbacks=True):
-                    raise SteppingError(f"unload: no equilibrium after the {self.phase_changes[-1]['kind']} at "
-                                        f"eps = {self.start:.6g}: {problem.failure}", self.start)
-                run.record(model.observe("unload", self.start, V1_sealed))
-            ended = self.ended = self._unload(model, path, problem, platen_force, self.start, V1_sealed,
-                                              self.sealing.closed, run, self.vapour)
+            path = self._path(problem, "unload")
+            if cycle.start != cycle.preload:  # the state at the phase change, with the new phase's term
+                if not path.solve_at(cycle.start, fallbacks=True):
+                    raise SteppingError(f"unload: no equilibrium after the {cycle.phase_changes[-1]['kind']} at "
+                                        f"eps = {cycle.start:.6g}: {problem.failure}", cycle.start)
+                run.record(model.observe("unload", cycle.start, V1_sealed))
+            ended = self._unload(model, path, problem, platen_force, cycle.start, V1_sealed,
+                                 cycle.sealed.closed, run, cycle.vapour)
+            cycle.final_unstable = path.unstable
             if isinstance(ended, dict):
-                self.phase_changes.append(ended)
-                if ended["kind"] == "cavitation" and run.results["cavitation"] is None:
-                    run.results["cavitation"] = ended
+                cycle.phase_changes.append(ended)
                 progress(f"unload: {ended['kind']} at eps = {ended['eps']:.6g}")
-                self.vapour = change_phase(model.ctx, "fluid_pressure", ended["kind"], params.cavitation)
-                self.start = ended["eps"]
-                return True
-            self.final = model.observe("unload", model.strain, V1_sealed)
+                cycle.vapour = change_phase(model.ctx, "fluid_pressure", ended["kind"], params.cavitation)
+                cycle.start = ended["eps"]
+                return Ended(f"{ended['kind']} at eps = {ended['eps']:.6g}", again=True)
+            cycle.zero_force = ended
+            cycle.final = model.observe("unload", model.strain, V1_sealed)
+            why = f"zero platen force at eps = {ended:.6g}"
             if params.retract > 0:
-                run.record(self.final)
-                run.results["pull_off"] = self._retract(model, path, V1_sealed, run)
-        return False
+                run.record(cycle.final)
+                pull_off = self._retract(model, path, V1_sealed, run)
+                why += f"; {pull_off['kind']} at eps = {pull_off['eps']:.6g}" if pull_off else \
+                    f"; no pull-off up to eps = -{params.retract:g}"
+                return Ended(why, {"pull_off": pull_off})
+        return Ended(why)
 
     def finish(self, run) -> None:
-        finish(run, self.model, self.final, self.V1, self.sealing.closed, self.preload, self.ended, self.events,
-               self.path.unstable, recorded=self.sealing.stays_closed is False and self.params.retract > 0,
-               vapour=self.vapour)
+        finish(run, self.params, self.crater, self.cycle,
+               recorded=self.cycle.sealed.stays_closed is False and self.params.retract > 0)
 
     def _retract(self, model, path, V1_sealed: float, run, bisections: int = 8) -> dict | None:
         """Lift the platen from zero force on to eps = -retract, recording the rows; stop at
@@ -318,7 +343,7 @@ class CraterCycle(StagedScene):
         return reaction / (math.pi * model.geometry.crater_radius**2)
 
 
-def load_to_closure(model, path: LoadPath, run, bisections: int = 10) -> tuple[float, bool]:
+def load_to_closure(model, path: LoadPath, run, strain_step: float, bisections: int = 10) -> tuple[float, bool]:
     """The load stage up to the smallest preload that closes the crater, eps_m (to a
     2^-bisections fraction of the last step, or to the bracket where a snap-through closure
     stops the bisection): load until the crater is closed (:data:`CLOSURE_CRITERIA`), then
@@ -327,11 +352,7 @@ def load_to_closure(model, path: LoadPath, run, bisections: int = 10) -> tuple[f
 
     Returns (eps_m, True), or (``MAX_CLOSURE_PRELOAD``, False) for a crater still open there
     (a result, e.g. a thick stiff lining that holds it open: the cycle then runs from there)."""
-    V0, c = model.geometry.crater_volume, CLOSURE_CRITERIA
-
-    def closed(row) -> bool:
-        return row["V"] <= c.volume * V0 or (row["V"] <= c.trapped * V0 and row["A_over_A0"] <= c.area)
-
+    closed = CLOSURE_CRITERIA.reached
     open_state = path.mark(0.0)
 
     def accept(eps):
@@ -342,7 +363,7 @@ def load_to_closure(model, path: LoadPath, run, bisections: int = 10) -> tuple[f
         open_state.update(path.mark(eps))
         return False
 
-    closed_at = path.through(0.0, MAX_CLOSURE_PRELOAD, model.params.strain_step, accept)
+    closed_at = path.through(0.0, MAX_CLOSURE_PRELOAD, strain_step, accept)
     if not closed(run.rows[-1]):
         return closed_at, False
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from bcfem.columns import Column, declare
 from bcfem.geometry.crater_cell import CELLS, LATTICES, MIN_LIGAMENT, CraterCell, close_packing
 from bcfem.params import Bound, check_bounds, check_meshable, describe, flags_named, require
 
@@ -48,8 +49,12 @@ PETSc prefixes: bcfem_crater_cell_load_ and bcfem_crater_cell_unload_."""
 
 FLUID_NAMES = ("air", "liquid")
 #: the columns of ``branch.csv``
-COLUMNS = ["stage", "eps", "p_over_pa", "V_over_V0", "A_over_A0", "F_tilde", "F_tilde_area",
-           "lateral_strain_x", "lateral_strain_y", "platen_force", "wall_on_plate"]
+COLUMNS = declare(
+    "stage", "eps", "p_over_pa", "V_over_V0", "A_over_A0", "F_tilde",
+    Column("F_tilde_area", "p_a", "the suction per unit reference area of the array, F_tilde x filling"),
+    Column("lateral_strain_x", "1", "the cell's lateral macroscopic strain e_x"),
+    Column("lateral_strain_y", "1", "the cell's lateral macroscopic strain e_y"),
+    "platen_force", Column("wall_on_plate", "1", "the walls' nodes above the rim that lie on the plate"))
 
 
 @dataclass(frozen=True)

@@ -12,20 +12,20 @@ from __future__ import annotations
 
 from bcfem.log import progress
 from bcfem.path.stepping import LoadPath, SteppingError
-from bcfem.run.stages import Stage, StagedScene
+from bcfem.path.terminations import PLATEN_FORCE_ZERO, Reaches
+from bcfem.run.stages import Ended, Stage, StagedScene
+from bcfem.scenes.crater.params import MAX_LIFT
 from bcfem.scenes.crater.report import classify
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 from bcfem.scenes.crater_cell.model import CellModel
 from bcfem.scenes.crater_cell.params import COLUMNS, Params
-
-#: how far beyond its original height the platen may lift looking for zero force
-MAX_LIFT = 0.1
 
 
 class CellCycle(StagedScene):
     """The scene ``crater-cell``: its model driven through the stages ``load`` and ``unload``
     (:meth:`plan`; :class:`bcfem.run.stages.StagedScene` runs them)."""
 
+    params: Params
     name = "crater-cell"
     stages = ("load", "unload")
     columns = COLUMNS
@@ -34,56 +34,74 @@ class CellCycle(StagedScene):
         self.params, self.comm = params, comm
         self.model: CellModel | None = None
         self.events: list[dict] = []
-        self.fluids: tuple = ()
+        self.fluids: list = []
+        #: the rows at the preload and at zero platen force, and the strain there
+        self.preloaded: dict = {}
+        self.final: dict = {}
+        self.zero = 0.0
+
+    @property
+    def cell(self) -> CellModel:
+        """The model, once built."""
+        if self.model is None:
+            raise RuntimeError("the cell's model is built by setup()")
+        return self.model
 
     @property
     def problem_options(self) -> dict:
-        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.model.energy_scale,
+        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.cell.energy_scale,
                     line_search_fallbacks=LINE_SEARCH_FALLBACKS)
 
     def setup(self, run) -> None:
         model = self.model = CellModel(self.params, self.comm)
         run.watch([model.u])
         cell = model.cell
-        run.results.update(instabilities=self.events, spacing=cell.spacing, cell_extent=list(cell.extent),
-                           craters_in_cell=cell.craters)
+        self.events = []
+        run.results.update(spacing=cell.spacing, cell_extent=list(cell.extent), craters_in_cell=cell.craters)
+
+    def solve(self, run) -> None:
+        try:
+            super().solve(run)
+        finally:
+            run.results["instabilities"] = self.events
 
     def plan(self) -> list[Stage]:
-        model = self.model
+        model = self.cell
         return [
             Stage("load", terms=model.terms, prepare=self._prepare, drive=self._load,
-                  ends="at the preload (vents open: the craters hold p_a)"),
+                  until=Reaches("eps", self.params.preload)),
             Stage("unload", enter=self._seal, terms=lambda: model.terms(*self.fluids), prepare=self._prepare,
-                  drive=self._unload, ends="at zero platen force, then on to eps = 0 (each crater sealed)"),
+                  drive=self._unload, until=PLATEN_FORCE_ZERO),
         ]
 
     def _path(self, problem, stage: str) -> LoadPath:
         params = self.params
-        return LoadPath(problem, self.model.set_platen, stage, self.model.viscosity,
+        return LoadPath(problem, self.cell.set_platen, stage, self.cell.viscosity,
                         params.beta / params.crater_radius**2, events=self.events, max_snaps=params.max_snaps,
                         load_name="eps", check_stability=params.stability == "inertia")
 
     def _prepare(self, problem) -> None:
-        self.model.contact_bounds(problem)
-        self.model.measure_force(problem)
+        self.cell.contact_bounds(problem)
+        self.cell.measure_force(problem)
 
     def _record(self, run, stage: str):
-        return lambda eps: run.record(self.model.observe(stage, eps))
+        return lambda eps: run.record(self.cell.observe(stage, eps))
 
-    def _load(self, problem, run) -> None:
+    def _load(self, problem, run) -> Ended:
         params = self.params
         path = self._path(problem, "load")
         self._record(run, "load")(0.0)
         path.start()
         path.through(0.0, params.preload, params.strain_step, self._record(run, "load"))
         self.preloaded = run.rows[-1]
+        return Ended(f"preloaded at eps = {params.preload:g}")
 
-    def _seal(self) -> None:
+    def _seal(self, run) -> None:
         """Each crater sealed at p_a with its volume V1 at the preload."""
-        self.fluids = self.model.seal()
+        self.fluids = self.cell.seal()
 
-    def _unload(self, problem, run) -> None:
-        params, model = self.params, self.model
+    def _unload(self, problem, run) -> Ended:
+        params, model = self.params, self.cell
         path = self._path(problem, "unload")
         path.start()
         last = path.mark(params.preload)
@@ -104,6 +122,7 @@ class CellCycle(StagedScene):
         progress(f"unload: zero platen force at eps = {self.zero:.6g}, F_tilde = {self.final['F_tilde']:.6g}")
         if self.zero > 0:  # on to the specimen's original height: the platen pulls
             path.through(self.zero, 0.0, params.strain_step, self._record(run, "unload"))
+        return Ended(f"zero platen force at eps = {self.zero:.6g}" + (", then on to eps = 0" if self.zero > 0 else ""))
 
     def finish(self, run) -> None:
         final, preloaded = self.final, self.preloaded

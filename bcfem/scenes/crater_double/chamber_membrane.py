@@ -92,7 +92,7 @@ class ChamberMembrane(DiscreteTerm):
         V = u.function_space
         self.u, self.comm = u, V.mesh.comm
         coords = V.tabulate_dof_coordinates()[: V.dofmap.index_map.size_local, :2]
-        self.blocks = [None, None]
+        self.blocks: list[int | None] = [None, None]
         for i, point in enumerate((self.X[:2], self.X[2:])):
             near = np.flatnonzero(np.linalg.norm(coords - point, axis=1) < self.tolerance)
             self.blocks[i] = int(near[0]) if near.size else None

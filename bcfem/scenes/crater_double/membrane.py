@@ -33,7 +33,7 @@ from bcfem.scenes.crater_double.stages import C1, C2, DoubleCraterCycle
 
 def _vertices(model, X: np.ndarray, on_wall, tag: int) -> np.ndarray:
     """A mask of the wall nodes X that are mesh vertices of wall ``tag``."""
-    heights = model.split._heights[tag]
+    heights = model.chamber_split._heights[tag]
     near = np.abs(X[:, 1][:, None] - heights[None, :]).min(axis=1) < 1e-12
     return on_wall(X) & near
 
@@ -47,11 +47,13 @@ class ProbeCycle(DoubleCraterCycle):
 
     def __init__(self, params, comm, model_class=None, pair: tuple[float, float] | None = None):
         super().__init__(params, comm, *(model_class,) if model_class else ())
-        self.pair, self.closest, self.given = pair, None, None
+        self.pair = pair
+        self.closest: dict | None = None
+        self.given: dict | None = None
 
     def _accepted(self, eps: float) -> None:
-        model = self.model
-        contact = model.self_contact
+        model = self.double
+        contact = model.wall_contact
         x, X = contact._positions(), contact.X
         side = _vertices(model, X, model._on_sidewall, SIDEWALL)
         ball = _vertices(model, X, model._on_protuberance, PROTUBERANCE)
@@ -62,7 +64,7 @@ class ProbeCycle(DoubleCraterCycle):
         if self.closest is None or here["distance"] < self.closest["distance"]:
             self.closest = here
         if self.pair is not None:
-            zw, zb = (model.split.snap(t, z) for t, z in zip((SIDEWALL, PROTUBERANCE), self.pair))
+            zw, zb = (model.chamber_split.snap(t, z) for t, z in zip((SIDEWALL, PROTUBERANCE), self.pair))
             k = np.flatnonzero(X[side][:, 1] == zw)[0]
             m = np.flatnonzero(X[ball][:, 1] == zb)[0]
             mine = {"eps": eps, "distance": float(d[k, m]), "Z_sidewall": zw, "Z_protuberance": zb}
@@ -92,6 +94,7 @@ def node_pair(params, comm, model_class=None) -> dict:
         found = probe["given_pair"] if given else probe["first_contact"] or probe["closest_approach"]
         definition = "given" if given else "first contact" if probe["first_contact"] else "closest approach"
     else:
+        assert pair is not None, "given heights"
         probe, found, definition = None, {"Z_sidewall": pair[0], "Z_protuberance": pair[1]}, "given"
     eps_a = params.switch_strain if params.switch_strain != AUTO else found["eps"]
     return {"Z_sidewall": found["Z_sidewall"], "Z_protuberance": found["Z_protuberance"], "eps_a": eps_a,
@@ -106,7 +109,8 @@ class MembraneCycle(DoubleCraterCycle):
         params = self.params
         self.membrane_at = node_pair(params, self.comm, self.model_class)
         self.cv = params.exchange_before
-        self.committed, self.exchange, self.bonded = 0.0, None, False
+        self.committed, self.bonded = 0.0, False
+        self.exchange: FluidExchange | None = None
         super().setup(run)
         run.results.update(membrane=self.membrane_at)
 
@@ -115,10 +119,10 @@ class MembraneCycle(DoubleCraterCycle):
         run.results.update(mass_conservation=max(r["fluid_law_residual"] for r in run.rows
                                                  if r["fluid_law_residual"] is not None))
 
-    def _seal(self) -> None:
+    def _seal(self, run) -> None:
         """At rest: split at the membrane's nodes; one cavity if C_V = 0, else two at p_a."""
-        model, at = self.model, self.membrane_at
-        Zw, Zb = model.split.move(at["Z_sidewall"], at["Z_protuberance"])
+        model, at = self.double, self.membrane_at
+        Zw, Zb = model.chamber_split.move(at["Z_sidewall"], at["Z_protuberance"])
         g = model.geometry
         rb = math.sqrt(max(g.R0**2 - (Zb - g.centre_height) ** 2, 0.0))
         self.divider = ChamberMembrane((rb, Zb), (g.r0, Zw), stiffness=params_stiffness(self.params),
@@ -128,7 +132,7 @@ class MembraneCycle(DoubleCraterCycle):
                                 sidewall_point=(g.r0, Zw))
         if self.cv != 0:
             self.chambers, self.vapour = 2, [False, False]
-        super()._seal()
+        super()._seal(run)
         self.total = sum(self.amounts)
 
     # -- the terms ------------------------------------------------------------------------
@@ -141,7 +145,7 @@ class MembraneCycle(DoubleCraterCycle):
         return [self.divider, *([self.exchange] if self.exchange else [])]
 
     def _set_platen(self, eps: float) -> None:
-        self.model.set_platen(eps)
+        self.double.set_platen(eps)
         if self.exchange is not None:  # backward Euler from the last accepted state
             self.exchange.conductance = abs(eps - self.committed) / (self.params.preload * self.cv)
 
@@ -151,26 +155,26 @@ class MembraneCycle(DoubleCraterCycle):
             (p1, p2), (V1, V2) = self.pressures(), self.volumes()
             self.amounts = [p1 * V1, p2 * V2]
             for name, m in zip((C1, C2), self.amounts):
-                self.model.ctx.constant(f"{name}_sealed").value = m
+                self.double.ctx.set(f"{name}_sealed", m)
 
     # -- the chambers ---------------------------------------------------------------------
     def volumes(self) -> tuple[float, float]:
         """(V_C1, V_C2) with the plug; one cavity: (V, 0)."""
         if self.chambers == 1 or not self.sealed:
             return super().volumes()
-        V1, V2 = self.model.chamber_volumes_now()
+        V1, V2 = self.double.chamber_volumes_now()
         P = self.divider.plug_volume()
         return V1 + P, V2 - P
 
     def _change(self) -> str | None:
         """Bonded contact: the first touching sidewall-protuberance pairs stay together."""
-        if self.params.contact == "bonded" and not self.bonded and self.model.sidewall_contact() is not None:
+        if self.params.contact == "bonded" and not self.bonded and self.double.sidewall_contact() is not None:
             return "bond"
         return None
 
     def _bond(self, eps: float) -> dict:
         self.bonded = True
-        return {"eps": eps, "bonded_pairs": self.model.bond_split()}
+        return {"eps": eps, "bonded_pairs": self.double.bond_split()}
 
     def _switch(self, run, eps: float) -> None:
         """ε_a: C_V becomes ``exchange_after``; one cavity splits at the membrane."""
@@ -191,20 +195,20 @@ class MembraneCycle(DoubleCraterCycle):
         seal = self._seal if self.params.seal == "rest" else None
         if 0 < eps_a < preload:
             return [self.leg("load", 0.0, eps_a, enter=seal),
-                    self.leg("load", eps_a, preload, enter=lambda: self._switch(self.run, eps_a))]
+                    self.leg("load", eps_a, preload, enter=lambda run: self._switch(run, eps_a))]
 
-        def first() -> None:
+        def first(run) -> None:
             if seal is not None:
-                seal()
+                seal(run)
             if eps_a == 0:
-                self._switch(self.run, 0.0)
+                self._switch(run, 0.0)
 
         return [self.leg("load", 0.0, preload, enter=first)]
 
-    def _loaded(self) -> None:
+    def _loaded(self, run) -> None:
         preload = self.params.preload
         if not 0 < self.membrane_at["eps_a"] < preload and self.cv != self.params.exchange_after:
-            self._switch(self.run, preload)  # Step 2 with C_V large
+            self._switch(run, preload)  # Step 2 with C_V large
         self.committed = preload
 
     # -- observables ----------------------------------------------------------------------
@@ -213,11 +217,11 @@ class MembraneCycle(DoubleCraterCycle):
         conservation, |sum p_i V_i / m - 1|, as ``fluid_law_residual``."""
         row = super().observe(stage, eps)
         if self.sealed:
-            V1, V2 = self.model.chamber_volumes_now()
+            V1, V2 = self.double.chamber_volumes_now()
             P = self.divider.plug_volume()
             row.update(V_c1=(V1 + P) / self.V0, V_c2=(V2 - P) / self.V0)
             p1, p2 = self.pressures()
-            mass = p1 * (V1 + P) + p2 * (V2 - P) if self.chambers == 2 else p1 * global_sum(self.model.volume)
+            mass = p1 * (V1 + P) + p2 * (V2 - P) if self.chambers == 2 else p1 * global_sum(self.double.volume)
             row["fluid_law_residual"] = abs(mass / self.total - 1)
         return row
 

@@ -21,13 +21,25 @@ import numpy as np
 import ufl
 from dolfinx import fem, mesh
 
-from bcfem.geometry.double_crater import BOTTOM, OUTER, PROTUBERANCE, ROOF, SIDEWALL, TOP, WALLS, create_mesh
+from bcfem.contact.self_contact import WallSelfContact
+from bcfem.geometry.double_crater import (
+    BOTTOM,
+    OUTER,
+    PROTUBERANCE,
+    ROOF,
+    SIDEWALL,
+    TOP,
+    WALLS,
+    DoubleCraterGeometry,
+    create_mesh,
+)
 from bcfem.mpi import global_sum, real_value
 from bcfem.physics.bcs import component
 from bcfem.physics.cavity import Cavity
 from bcfem.scenes.crater.model import CONTACT_GAP, SEAL_REACH, Crater
 from bcfem.scenes.crater.model import SEALED_BOTTOM as CRATER_SEALED_BOTTOM
 from bcfem.scenes.crater_double.chambers import ChamberSplit
+from bcfem.scenes.crater_double.params import DoubleSpecimen
 
 #: a wall node lies on a reference surface to this fraction of H (P2 nodes lie on it exactly)
 ON_SURFACE = 1e-6
@@ -37,14 +49,17 @@ SEALED_BOTTOM = 19
 
 class DoubleCrater(Crater):
     """:class:`~bcfem.scenes.crater.model.Crater` on :mod:`bcfem.geometry.double_crater`
-    (parameters: :class:`bcfem.scenes.crater_double.params.Params`)."""
+    (built from :class:`bcfem.scenes.crater_double.params.DoubleSpecimen`)."""
 
     walls = WALLS
     create_mesh = staticmethod(create_mesh)
 
-    def __init__(self, params, comm):
+    params: DoubleSpecimen
+    geometry: DoubleCraterGeometry
+
+    def __init__(self, params: DoubleSpecimen, comm):
         super().__init__(params, comm)
-        gap = CONTACT_GAP * self.geometry.crater_radius if self.bottom_contact else 0.0
+        gap = CONTACT_GAP * self.geometry.r0 if self.bottom_contact else 0.0
         if self.bottom_contact:  # the crater's cavity and wetted area, on this geometry's tag
             self.cavity = Cavity((*self.walls, SEALED_BOTTOM), gap)
             self.volume = fem.form(self.cavity.volume(self.ctx.kin))
@@ -63,6 +78,20 @@ class DoubleCrater(Crater):
         self._sidewall_nodes = self._on_sidewall(X) | (np.hypot(X[:, 0] - self.geometry.r0, X[:, 1])
                                                        < ON_SURFACE * self.geometry.crater_height)
         self._protuberance_nodes = self._on_protuberance(X)
+
+    @property
+    def chamber_split(self) -> ChamberSplit:
+        """The chambers' split (a geometry with a protuberance)."""
+        if self.split is None:
+            raise RuntimeError("a crater without a protuberance has one chamber")
+        return self.split
+
+    @property
+    def wall_contact(self) -> WallSelfContact:
+        """The walls' self-contact (which this scene's chambers need)."""
+        if self.self_contact is None:
+            raise RuntimeError("the double crater's chambers need --self-contact > 0")
+        return self.self_contact
 
     def _tag_sealed_bottom(self, msh, facets):
         """The crater's retagging, to :data:`SEALED_BOTTOM` (the crater's tag is the sidewall's)."""
@@ -122,7 +151,7 @@ class DoubleCrater(Crater):
     def split_at(self, heights: tuple[float, float]) -> tuple[float, float]:
         """Split the chambers at the reference heights (Z_w, Z_b) (snapped to wall vertices);
         returns their current volumes (V_C1, V_C2)."""
-        self.split.move(*heights)
+        self.chamber_split.move(*heights)
         return self.chamber_volumes_now()
 
     def chamber_volumes_now(self) -> tuple[float, float]:
@@ -148,9 +177,9 @@ class DoubleCrater(Crater):
         the deepest contact between the two (a node of one behind a segment of the other), or
         None: until then the cavity is one chamber. Contacts of the roof with the
         protuberance, where the roof folds onto it at the neck, do not split it (collective)."""
-        X = self.self_contact.X
+        X = self.wall_contact.X
         nodes, segments, gaps, side_node = self._split_contacts()
-        heights = X[self.self_contact.segments[segments]][:, :, 1].mean(axis=1)  # a segment's reference height
+        heights = X[self.wall_contact.segments[segments]][:, :, 1].mean(axis=1)  # a segment's reference height
         candidates = [(float(g), float(z_node) if s else float(z_seg), float(z_seg) if s else float(z_node))
                       for g, s, z_node, z_seg in zip(gaps, side_node, X[nodes, 1], heights)]
         everyone = [c for part in self.mesh.comm.allgather(candidates) for c in part]
@@ -163,7 +192,7 @@ class DoubleCrater(Crater):
         """Hold the sidewall-protuberance contacts of this state together from now on (the
         dissertation's non-separable contact); returns how many pairs (collective)."""
         nodes, segments, _, _ = self._split_contacts()
-        self.self_contact.bond(nodes, segments)
+        self.wall_contact.bond(nodes, segments)
         return self.mesh.comm.allreduce(len(nodes))
 
     def sidewall_gap(self) -> float | None:
@@ -172,7 +201,7 @@ class DoubleCrater(Crater):
         penalty's penetration is O(L / c_k)); None without a protuberance."""
         if not self.geometry.has_protuberance:
             return None
-        contact = self.self_contact
+        contact = self.wall_contact
         x, X, segments = contact._positions(), contact.X, contact.segments
         side = x[self._on_sidewall(X)]
         ends = segments[self._on_protuberance(X[segments[:, 0]]) & self._on_protuberance(X[segments[:, 1]])]
@@ -184,7 +213,7 @@ class DoubleCrater(Crater):
     def _split_contacts(self):
         """This rank's contacts of a sidewall node with a protuberance segment or the reverse:
         (nodes, segments, gaps, node on the sidewall)."""
-        contact = self.self_contact
+        contact = self.wall_contact
         if contact is None:
             raise ValueError("the chambers split by self-contact: self-contact must be on")
         nodes, segments, gaps = contact.contacts()

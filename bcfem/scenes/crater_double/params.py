@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import ClassVar
 
+from bcfem.columns import Column, declare
 from bcfem.geometry.double_crater import (
     CRATER_RADIUS,
     GAP,
@@ -20,6 +21,7 @@ from bcfem.geometry.double_crater import (
     DoubleCraterGeometry,
 )
 from bcfem.params import Bound, check_bounds, describe, flags_named, require
+from bcfem.scenes.crater.params import Specimen
 
 SUMMARY = "double-chamber crater (a protuberance splits the cavity by contact): the suction cycle (ch. 9)"
 DESCRIPTION = """\
@@ -72,8 +74,28 @@ CHAMBERS = ("split", "membrane")
 #: ``auto`` for the membrane's nodes and switch strain: found on a first (probe) run
 AUTO = -1.0
 #: the columns of ``branch.csv`` ("vapour": how many chambers hold a cavitated liquid)
-COLUMNS = ["stage", "eps", "chambers", "vapour", "p_c1_over_pa", "p_c2_over_pa", "V_c1", "V_c2", "A_c1_over_A0",
-           "F_tilde", "sidewall_gap", "fluid_law_residual", "lateral_strain"]
+COLUMNS = declare(
+    "stage", "eps", Column("chambers", "1", "one cavity (1), or the chambers C1 and C2 (2)"),
+    Column("vapour", "1", "the chambers that hold vapour (a cavitated liquid)"),
+    Column("p_c1_over_pa", "1", "the pressure of C1 (on the plate) over p_a; one cavity: its pressure"),
+    Column("p_c2_over_pa", "1", "the pressure of C2 (under the roof) over p_a; one cavity: its pressure"),
+    Column("V_c1", "1", "the volume of C1 over the cavity's volume at rest V0"),
+    Column("V_c2", "1", "the volume of C2 over V0 (0 while one cavity)"),
+    Column("A_c1_over_A0", "1", "C1's wetted area on the plate over pi r0^2"),
+    Column("F_tilde", "p_a A0", "suction force (1 - p_c1) A_c1 / A0"),
+    Column("sidewall_gap", "H", "the least distance from the sidewall to the protuberance (empty without one)"),
+    Column("fluid_law_residual", "1", "the chambers' largest equation-of-state residual (empty while vented)"),
+    Column("lateral_strain", "1", "the cell's lateral strain (an array's cell; empty for an isolated specimen)"))
+
+
+@dataclass(frozen=True)
+class DoubleSpecimen(Specimen):
+    """The crater model's record with the double chamber's own: ``cell`` (isolated or a cell of
+    an array), ``plate`` (frictionless or sticking) and ``top`` (sliding or bonded)."""
+
+    cell: str = "isolated"
+    plate: str = "frictionless"
+    top: str = "sliding"
 
 
 @dataclass(frozen=True)
@@ -176,12 +198,6 @@ class Params:
         "check the non-axisymmetric modes with n = 1..waves circumferential waves after every step, "
         "0: off", "", bound=Bound(0, 400, integer=True)))
 
-    #: what the crater model reads that this scene fixes: no lining (its reinforcement layer),
-    #: Taylor-Hood elements, the stable path
-    layer_thickness: ClassVar[float] = 0.0
-    layer_stiffness: ClassVar[float] = 1.0
-    element: ClassVar[str] = "p2p1"
-    path: ClassVar[str] = "stable"
     #: the membrane model's own parameters
     MEMBRANE: ClassVar[tuple] = ("exchange_before", "exchange_after", "switch_strain", "membrane_sidewall",
                                  "membrane_protuberance", "membrane_stiffness")
@@ -206,6 +222,13 @@ class Params:
                 f"--size-contact must be at most --size-wall = {self.size_wall:g} (got {self.size_contact:g})")
         with flags_named(self):
             self.geometry()  # a protuberance that does not fit, R0 >= r0: ValueError naming it
+
+    def specimen(self) -> DoubleSpecimen:
+        """What the double crater's model is built from: no lining, Taylor-Hood elements, the
+        stable path."""
+        return DoubleSpecimen(self.geometry(), self.beta, self.kappa_ratio, self.specimen_height,
+                              self.surface_energy, self_contact=self.self_contact, waves=self.waves,
+                              bottom=self.bottom, cell=self.cell, plate=self.plate, top=self.top)
 
     def geometry(self) -> DoubleCraterGeometry:
         return DoubleCraterGeometry(crater_height=1.0, crater_radius=self.crater_radius,

@@ -56,7 +56,7 @@ def plot_shapes(shapes):
 
     plt = pyplot()
     fig, axes = plt.subplots(1, max(len(shapes), 1), figsize=(2.3 * max(len(shapes), 1), 3.0), squeeze=False)
-    rest = shapes[0]["x"] if shapes else None
+    rest = shapes[0]["x"] if shapes else np.empty((0, 2))
     for i, (ax, shape) in enumerate(zip(axes[0], shapes)):
         segments = shape["segments"]
         for x, style in ((rest, dict(color="0.6", lw=0.6, ls=":", label="at rest")),

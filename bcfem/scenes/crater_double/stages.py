@@ -17,9 +17,10 @@ import math
 from bcfem.log import progress
 from bcfem.mpi import global_sum, real_value
 from bcfem.path.stepping import LoadPath, SteppingError
+from bcfem.path.terminations import Reaches
 from bcfem.physics.cavitation import change_phase, liquid_or_vapour, phase_change
 from bcfem.physics.fluids import FLUIDS
-from bcfem.run.stages import Stage, StagedScene
+from bcfem.run.stages import Ended, Stage, StagedScene
 from bcfem.scenes.crater.report import classify, symmetry_breaking
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 from bcfem.scenes.crater_double.model import DoubleCrater
@@ -36,6 +37,7 @@ class DoubleCraterCycle(StagedScene):
     to eps = 0, planned as legs of the stages ``load`` and ``unload`` (:meth:`plan`); a leg is
     entered again with new terms wherever the chambers change."""
 
+    params: Params
     name = "crater-double"
     stages = ("load", "unload")
     columns = COLUMNS
@@ -46,6 +48,24 @@ class DoubleCraterCycle(StagedScene):
         self.params, self.comm, self.model_class = params, comm, model_class
         self.model: DoubleCrater | None = None
         self.shapes: list[dict] = []
+        #: the chambers as they are: their number, sealed or vented, each one's vapour (a
+        #: cavitated liquid) and amount of fluid (p V for air, V for a liquid)
+        self.chambers, self.sealed = 1, False
+        self.vapour: list[bool] = [False]
+        self.amounts: list[float] = []
+        #: the cavity's volume and the crater's base area at rest
+        self.V0 = self.A0 = 0.0
+        self.events: list[dict] = []
+        self.topology: list[dict] = []
+        #: where the current leg starts and ends, and whether its start is solved first
+        self._leg_at: dict = {}
+
+    @property
+    def double(self) -> DoubleCrater:
+        """The model, once built."""
+        if self.model is None:
+            raise RuntimeError("the double crater's model is built by setup()")
+        return self.model
 
     # -- the chambers ---------------------------------------------------------------------
     def _names(self) -> tuple[str, ...]:
@@ -57,7 +77,7 @@ class DoubleCraterCycle(StagedScene):
         if not self.sealed:
             return []
         fluid, held = FLUIDS[self.params.fluid], self.params.cavitation
-        cavities = [self.model.cavity] if self.chambers == 1 else self.model.chambers
+        cavities = [self.double.cavity] if self.chambers == 1 else self.double.chambers
         return [liquid_or_vapour(fluid, c, n, name, vapour, held)
                 for c, n, name, vapour in zip(cavities, self.amounts, self._names(), self.vapour)]
 
@@ -65,7 +85,7 @@ class DoubleCraterCycle(StagedScene):
         """(p_c1, p_c2) / p_a; one cavity: its pressure twice."""
         if not self.sealed:
             return 1.0, 1.0
-        states = self.model.ctx.states
+        states = self.double.ctx.states
         p = [self.params.cavitation if vapour else real_value(states[name])
              for name, vapour in zip(self._names(), self.vapour)]
         return (p[0], p[0]) if self.chambers == 1 else (p[0], p[1])
@@ -73,8 +93,8 @@ class DoubleCraterCycle(StagedScene):
     def volumes(self) -> tuple[float, float]:
         """(V_C1, V_C2); one cavity: (V, 0)."""
         if self.chambers == 1:
-            return global_sum(self.model.volume), 0.0
-        return self.model.chamber_volumes_now()
+            return global_sum(self.double.volume), 0.0
+        return self.double.chamber_volumes_now()
 
     def _amount(self, p: float, V: float) -> float:
         return p * V if self.params.fluid == "air" else V
@@ -82,9 +102,9 @@ class DoubleCraterCycle(StagedScene):
     def _set_pressures(self, values) -> None:
         for name, p, vapour in zip(self._names(), values, self.vapour):
             if not vapour:
-                self.model.ctx.real_state(name).x.array[:] = p
+                self.double.ctx.real_state(name).x.array[:] = p
 
-    def _seal(self) -> None:
+    def _seal(self, run) -> None:
         """Seal each chamber with its fluid at p_a (the vented loading's end)."""
         self.sealed = True
         V = self.volumes()[: self.chambers]
@@ -92,16 +112,19 @@ class DoubleCraterCycle(StagedScene):
         self._set_pressures([1.0] * self.chambers)
 
     def _split(self, eps: float) -> dict:
-        model = self.model
+        model = self.double
         p = self.pressures()[0]
-        V1, V2 = model.split_at(model.sidewall_contact())
+        touching = model.sidewall_contact()
+        assert touching is not None, "a split where the walls touch"
+        V1, V2 = model.split_at(touching)
         self.chambers, self.vapour = 2, self.vapour * 2
         if self.sealed:  # a cavitated liquid: each chamber keeps its share of the liquid
             share = self.amounts[0] / (V1 + V2)
             self.amounts = [share * V1, share * V2] if self.vapour[0] else [self._amount(p, V1), self._amount(p, V2)]
             self._set_pressures([p, p])
         bonded = model.bond_split() if self.params.contact == "bonded" else 0
-        Zw, Zb = (float(model.split.sidewall_height.value), float(model.split.protuberance_height.value))
+        split = model.chamber_split
+        Zw, Zb = float(split.sidewall_height.value), float(split.protuberance_height.value)
         return {"eps": eps, "p_over_pa": p, "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "Z_sidewall": Zw,
                 "Z_protuberance": Zb, **({"bonded_pairs": bonded} if bonded else {})}
 
@@ -118,7 +141,7 @@ class DoubleCraterCycle(StagedScene):
         volume fell back to the liquid's)."""
         (p1, p2), (V1, V2) = self.pressures(), self.volumes()
         chamber = next(i for i in range(self.chambers) if self._phase_changes(i))
-        self.vapour[chamber] = change_phase(self.model.ctx, self._names()[chamber], kind, self.params.cavitation)
+        self.vapour[chamber] = change_phase(self.double.ctx, self._names()[chamber], kind, self.params.cavitation)
         return {"eps": eps, "chamber": ("C1", "C2")[chamber] if self.chambers == 2 else "one",
                 "p_c1_over_pa": p1, "p_c2_over_pa": p2, "V_c1": V1 / self.V0, "V_c2": V2 / self.V0}
 
@@ -134,7 +157,7 @@ class DoubleCraterCycle(StagedScene):
         """The change of the chambers in this state: the sidewall touches the protuberance
         (split), left it (merge, separable contact only), a liquid cavitates or its vapour
         collapses; None if they stay as they are."""
-        touching = self.model.sidewall_contact() is not None
+        touching = self.double.sidewall_contact() is not None
         if self.chambers == 1 and touching:
             return "split"
         if self.chambers == 2 and not touching and self.params.contact == "separable":
@@ -144,12 +167,12 @@ class DoubleCraterCycle(StagedScene):
     # -- observables ----------------------------------------------------------------------
     def observe(self, stage: str, eps: float) -> dict:
         (p1, p2), (V1, V2) = self.pressures(), self.volumes()
-        A = self.model.wetted_area() / self.A0
+        A = self.double.wetted_area() / self.A0
         row = {"stage": stage, "eps": eps, "chambers": self.chambers, "vapour": sum(self.vapour),
                "p_c1_over_pa": p1, "p_c2_over_pa": p2,
                "V_c1": V1 / self.V0, "V_c2": V2 / self.V0, "A_c1_over_A0": A, "F_tilde": (1 - p1) * A,
-               "sidewall_gap": self.model.sidewall_gap(), "fluid_law_residual": None,
-               "lateral_strain": self.model.lateral_strain()}
+               "sidewall_gap": self.double.sidewall_gap(), "fluid_law_residual": None,
+               "lateral_strain": self.double.lateral_strain()}
         if self.sealed:  # each fluid's law: p V = n (air) or V = n (liquid); vapour: p = p_v
             laws = [0.0 if vapour else (p if self.params.fluid == "air" else 1.0) * V / n - 1
                     for p, V, n, vapour in zip((p1, p2), (V1, V2), self.amounts, self.vapour)]
@@ -158,25 +181,23 @@ class DoubleCraterCycle(StagedScene):
 
     def _shape(self, label: str, eps: float) -> None:
         """Keep the walls' current nodes for the deformed-shape figure."""
-        contact = self.model.self_contact
+        contact = self.double.wall_contact
         self.shapes.append({"label": label, "eps": eps, "x": contact._positions().copy(),
                             "segments": contact.segments})
 
     # -- the plan -------------------------------------------------------------------------
     @property
     def problem_options(self) -> dict:
-        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.model.energy_scale,
+        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.double.energy_scale,
                     line_search_fallbacks=LINE_SEARCH_FALLBACKS)
 
     def setup(self, run) -> None:
-        model = self.model = self.model_class(self.params, self.comm)
+        model = self.model = self.model_class(self.params.specimen(), self.comm)
         run.watch([model.u])
-        self.run = run
         self.V0 = global_sum(model.volume)
         self.A0 = math.pi * model.geometry.r0**2
         self.chambers, self.sealed, self.vapour = 1, False, [False]
-        self.events: list[dict] = []
-        self.topology: list[dict] = []
+        self.events, self.topology = [], []
         run.results.update(instabilities=self.events, split=None, merge=None)
 
     def plan(self) -> list[Stage]:
@@ -192,35 +213,35 @@ class DoubleCraterCycle(StagedScene):
         what happens first); at a topology change a bisection locates it, and the leg is
         entered again from there with the new terms. ``settle``: solve and record the state at
         ``start`` first."""
-        def begin() -> None:
+        def begin(run) -> None:
             if enter is not None:
-                enter()
+                enter(run)
             self._leg_at = {"start": start, "end": end, "fresh": settle}
 
-        return Stage(stage, enter=begin, terms=self._terms, prepare=self.model.contact_bounds,
+        return Stage(stage, enter=begin, terms=self._terms, prepare=self.double.contact_bounds,
                      drive=lambda problem, run: self._leg(problem, run, stage),
-                     ends=f"at eps = {end:g}; entered again where the chambers change")
+                     until=Reaches("eps", end, falling=end < start))
 
     def _loading(self) -> list[Stage]:
         """The loading legs (sealed first with ``--seal rest``)."""
         seal = self._seal if self.params.seal == "rest" else None
         return [self.leg("load", 0.0, self.params.preload, enter=seal)]
 
-    def _loaded(self) -> None:
+    def _loaded(self, run) -> None:
         """What happens at the preload, before anything else."""
 
-    def _unloading(self) -> None:
-        self._loaded()
+    def _unloading(self, run) -> None:
+        self._loaded(run)
         self._shape("preload", self.params.preload)
         if not self.sealed:
-            self._seal()
+            self._seal(run)
 
     def _terms(self) -> list:
-        return self.model.terms(*self._fluids(), *self._more_terms())
+        return self.double.terms(*self._fluids(), *self._more_terms())
 
     def finish(self, run) -> None:
         if not self.unloads:
-            self._loaded()
+            self._loaded(run)
             self._shape("preload", self.params.preload)
             return
         self._shape("unloaded", 0.0)
@@ -232,15 +253,19 @@ class DoubleCraterCycle(StagedScene):
         return []
 
     def _set_platen(self, eps: float) -> None:
-        self.model.set_platen(eps)
+        self.double.set_platen(eps)
+
+    def _bond(self, eps: float) -> dict:
+        """Bond the walls where they touch (a cycle whose chambers bond)."""
+        raise NotImplementedError(f"{type(self).__name__} does not bond its walls")
 
     def _accepted(self, eps: float) -> None:
         """Called at every accepted state, after its row."""
 
-    def _leg(self, problem, run, stage: str) -> bool:
-        """One problem's part of a leg: to its end (False), or to a change of the chambers,
-        located by bisection (True: the leg goes on from there with a new problem)."""
-        params, model = self.params, self.model
+    def _leg(self, problem, run, stage: str) -> Ended:
+        """One problem's part of a leg: to its end, or to a change of the chambers, located by
+        bisection (then the leg goes on from there with a new problem: ``again``)."""
+        params, model = self.params, self.double
         start, end, fresh = self._leg_at["start"], self._leg_at["end"], self._leg_at["fresh"]
         path = LoadPath(problem, self._set_platen, stage, model.viscosity,
                         params.beta / model.geometry.r0**2, events=self.events,
@@ -268,9 +293,10 @@ class DoubleCraterCycle(StagedScene):
 
         reached = path.through(start, end, params.strain_step, accept)
         if not self._change():
-            return False
+            return Ended(f"eps = {reached:.6g}")
         eps = path.bisect(before, reached, lambda _: self._change() is not None, BISECTIONS)
-        bracket = abs(path.bracket[1] - path.bracket[0])
+        low, high = path.bracket or (eps, eps)
+        bracket = abs(high - low)
         kind = self._change()
         if kind == "split":
             event = self._split(eps)
@@ -279,6 +305,7 @@ class DoubleCraterCycle(StagedScene):
         elif kind == "bond":
             event = self._bond(eps)
         else:
+            assert kind is not None, "a change was located"
             event = self._phase_change(eps, kind)
         event = {"stage": stage, "kind": kind, "bracket": bracket, **event}
         if kind in ("split", "merge"):
@@ -293,7 +320,7 @@ class DoubleCraterCycle(StagedScene):
             run.record(self.observe(stage, eps))
             self._accepted(eps)
         self._leg_at = {"start": eps, "end": end, "fresh": fresh}
-        return True
+        return Ended(f"{kind} at eps = {eps:.6g}", again=True)
 
     def _finish(self, run) -> None:
         final = run.rows[-1]

@@ -18,6 +18,7 @@ line checks the parameters before the finite-element stack is imported).
 
 from __future__ import annotations
 
+from bcfem.columns import union
 from bcfem.scenes.crater_sector.params import DESCRIPTION, SUMMARY, Params, columns
 
 _PATHS = ("axisymmetric_suction_waves", "cycle", "drawn_stability", "first_onset", "loading_stability",
@@ -47,5 +48,5 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-COLUMNS = columns("cycle")
+COLUMNS = union(columns("cycle"), columns("drawn"))
 __all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "Params", "build", "solve", *_PATHS]

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from bcfem.columns import Column, declare
 from bcfem.geometry.crater_sector import CraterSector
 from bcfem.params import Bound, check_bounds, describe, require
 
@@ -45,11 +46,16 @@ critical mode: _drawn_critical_mode_) and bcfem_crater_sector_wave_ (drawn)."""
 DRIVES = ("cycle", "drawn")
 
 
-def columns(drive: str) -> list[str]:
+def columns(drive: str) -> tuple[Column, ...]:
     """The columns of ``branch.csv`` for ``drive``."""
     if drive == "cycle":
-        return ["stage", "eps", "p_over_pa", "V_over_V0", "A_over_A0", "F_tilde"]
-    return ["stage", "branch", "r", "s", "A_over_A0", "F_tilde", "unstable", "c_0", "c_m", "c_2m"]
+        return declare("stage", "eps", "p_over_pa", "V_over_V0", "A_over_A0", "F_tilde")
+    return declare("stage", Column("branch", "", "fundamental, or n=<waves> (the bifurcated branch)"),
+                   Column("r", "1", "the fraction of the crater's volume drawn off"),
+                   Column("s", "p_a", "the suction 1 - p"), "A_over_A0", "F_tilde",
+                   Column("unstable", "1", "the unstable modes"),
+                   *(Column(f"c_{k}", "1", f"the wall's Fourier coefficient of order {k} (m = --wedge-waves)")
+                     for k in ("0", "m", "2m")))
 
 
 @dataclass(frozen=True)

@@ -104,7 +104,7 @@ def drawn_stability(removed, beta: float = 47.3 / 101.325, kappa_ratio: float = 
     liquid = IncompressibleLiquid(Cavity(WALL), sealed_volume=V0)
     model.ctx.real_state(liquid.pressure_name).x.array[:] = 1.0
     pressure = model.ctx.states[liquid.pressure_name]
-    amount = model.ctx.constant(f"{liquid.pressure_name}_sealed")
+    amount = model.ctx.parameter(liquid, "sealed_volume")
 
     def set_removed(r: float) -> None:
         amount.value = (1 - r) * V0
@@ -141,14 +141,14 @@ def axisymmetric_suction_waves(suctions, waves: int, layer_thickness: float, lay
                     layer_stiffness=layer_stiffness, size_crater=size_crater, surface_energy=0.0, self_contact=0.0,
                     waves=waves, specimen_radius=sector.radius, specimen_height=sector.height,
                     crater_radius=sector.crater_radius)
-    model = Crater(params, comm)
+    model = Crater(params.specimen(), comm)
     if drawn:  # the volume drawn off, V = (1 - r) V0, the suction s = 1 - p
         V0 = model.geometry.crater_volume
         liquid = IncompressibleLiquid(model.cavity, sealed_volume=V0)
         terms = [*model.solids, liquid]
         model.ctx.real_state(liquid.pressure_name).x.array[:] = 1.0
         pressure = model.ctx.states[liquid.pressure_name]
-        amount = model.ctx.constant(f"{liquid.pressure_name}_sealed")
+        amount = model.ctx.parameter(liquid, "sealed_volume")
     else:
         terms = [*model.solids, Vacuum(model.cavity)]
         amount = model.ctx.constant("vacuum_load")

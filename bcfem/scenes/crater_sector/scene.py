@@ -4,6 +4,7 @@ bifurcated one), as rows of ``branch.csv`` and entries of ``summary.json``."""
 
 from __future__ import annotations
 
+from bcfem.path.terminations import Reaches
 from bcfem.run.scene import Scene
 from bcfem.scenes.crater_sector import paths
 from bcfem.scenes.crater_sector.params import Params, columns
@@ -12,6 +13,7 @@ from bcfem.scenes.crater_sector.params import Params, columns
 class SectorScene(Scene):
     """``crater-sector``; its stages are the drive's."""
 
+    params: Params
     name = "crater-sector"
 
     def __init__(self, params: Params, comm, extra_terms=()):
@@ -28,6 +30,9 @@ class SectorScene(Scene):
             rows = paths.cycle(p.preload, steps=p.steps, **common)
             for row in rows:
                 run.record(row)
+            run.stages += [{"stage": "load", "until": str(Reaches("eps", p.preload)), "ended": "preloaded"},
+                           {"stage": "unload", "until": str(Reaches("eps", 0.0, falling=True)),
+                            "ended": f"eps = {rows[-1]['eps']:g}"}]
             loaded = [r for r in rows if r["stage"] == "load"][-1]
             run.results.update(V1_over_V0=loaded["V_over_V0"], p_end_over_pa=rows[-1]["p_over_pa"],
                                F_tilde_at_eps_0=rows[-1]["F_tilde"])
@@ -38,6 +43,10 @@ class SectorScene(Scene):
         for r, unstable, s in sorted(found["rows"]):
             run.record({"stage": "drawn", "branch": "fundamental", "r": r, "s": s, "unstable": unstable})
         onset = found["onset"]
+        drawn_max = max(p.drawn())
+        run.stages.append({"stage": "drawn", "until": f"the first onset, or r = {drawn_max:g}",
+                           "ended": found["failure"] or (f"onset at r in [{onset[0]:.6g}, {onset[1]:.6g}]" if onset
+                                                         else f"no onset up to r = {drawn_max:g}")})
         suction = {r: s for r, _, s in found["rows"]}
         run.results.update(onset=None if onset is None else {
             "r_stable": onset[0], "r_unstable": onset[1], "s_stable": suction[onset[0]],
@@ -45,6 +54,8 @@ class SectorScene(Scene):
         if "branch" not in found:
             return
         n = found["waves"]
+        run.stages.append({"stage": "wave", "until": "the wave's branch ends", "ended": found["branch_failure"]
+                           or f"the {n}-wave branch is followed over {len(found['branch'])} points"})
         post = []
         for row in found["branch"]:
             c = row["fourier"]

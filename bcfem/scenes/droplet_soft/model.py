@@ -34,13 +34,14 @@ from dolfinx import fem
 from bcfem.geometry.substrate import AXIS, BOTTOM, FAR, OUTER_TOP, WETTED, create_mesh
 from bcfem.mpi import PointEvaluator, real_value, sample
 from bcfem.path.stepping import LoadPath, SteppingError
+from bcfem.path.terminations import Described, Reaches
 from bcfem.physics import bcs as dirichlet
 from bcfem.physics.context import Context
 from bcfem.physics.energies import SolidStrain, SolidSurfaceEnergy
 from bcfem.physics.linear_solid import LinearDropLoads, LinearElasticity, LinearSurfaceTension, SubstrateKinematics
 from bcfem.physics.materials import NearlyIncompressibleNeoHookean
 from bcfem.physics.sessile_drop import SphericalCapDrop, cap_volume
-from bcfem.run.stages import Stage, StagedScene
+from bcfem.run.stages import Ended, Stage, StagedScene
 from bcfem.scenes.droplet_soft.params import COLUMNS, Params
 
 #: the three tensions' run-time constants and the Params fields of their targets
@@ -69,6 +70,7 @@ class DropletSoft(StagedScene):
     """The droplet-soft scene: its model, and one stage (:meth:`plan`): ``solve`` (linear) or
     ``load`` (the neo-Hookean substrate, the drop's tension ramped to full)."""
 
+    params: Params
     name = "droplet-soft"
     stages = ("solve", "load")
     columns = COLUMNS
@@ -219,20 +221,26 @@ class DropletSoft(StagedScene):
 
     def plan(self) -> list[Stage]:
         if self.params.model == "linear":
-            return [Stage("solve", terms=lambda: self.terms, drive=self._solve_linear, ends="after one solve")]
-        return [Stage("load", enter=lambda: self.set_load(0.0), terms=lambda: self.terms, drive=self._load,
-                      ends="at full load; with --control neumann, at the drop volume that zeroes the "
-                           "Neumann misfit")]
+            return [Stage("solve", terms=lambda: self.terms, drive=self._solve_linear,
+                          until=Described("one linear solve"))]
+        full = Reaches("load", 1.0)
+        return [Stage("load", enter=self._unloaded, terms=lambda: self.terms, drive=self._load,
+                      until=full if self.params.control != "neumann" else
+                      Described(f"{full}, then the drop volume that zeroes the Neumann misfit"))]
 
-    def _solve_linear(self, problem, run) -> None:
+    def _unloaded(self, run) -> None:
+        self.set_load(0.0)
+
+    def _solve_linear(self, problem, run) -> Ended:
         try:
             if not problem.solve():
                 raise SteppingError(f"solve: the linear system did not converge ({problem.failure})", 0.0)
             run.record(self.observe(1.0, problem.iterations))
         finally:
             self._finish(run)
+        return Ended("solved")
 
-    def _load(self, problem, run) -> None:
+    def _load(self, problem, run) -> Ended:
         path = LoadPath(problem, self.set_load, "load", check_stability=False, load_name="load")
         path.start()
         run.record(self.observe(0.0, 0))
@@ -241,8 +249,10 @@ class DropletSoft(StagedScene):
                          lambda load: run.record(self.observe(load, problem.iterations)))
             if self.params.control == "neumann":
                 self._hold_neumann(run, problem)
+                return Ended(f"the Neumann misfit is zero at the drop volume {self.drop_volume():.6g} R0^3")
         finally:
             self._finish(run)
+        return Ended("full load")
 
     def _hold_neumann(self, run, problem, factor: float = 0.85, steps: int = 14) -> None:
         """The drop volume at full load where ``neumann_misfit`` changes sign: march the volume by

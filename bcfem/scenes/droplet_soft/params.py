@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from bcfem.columns import Column, declare
 from bcfem.geometry.substrate import SubstrateGeometry
 from bcfem.params import Bound, check_bounds, check_meshable, describe, flags_named, require
 
@@ -50,10 +51,22 @@ MODELS = ("linear", "neo-hookean")
 CONTACT_FORCES = ("liquid", "balanced")
 CONTROLS = ("volume", "neumann")
 #: the columns of ``branch.csv``
-COLUMNS = ["load", "gamma_l", "ridge_height", "ridge_height_normalised", "tip_r", "tip_z",
-           "cap_angle_deg", "cusp_angle_deg", "liquid_angle_deg", "vapour_angle_deg", "cusp_angle_chord_deg",
-           "neumann_residual", "neumann_misfit", "drop_volume",
-           "laplace_pressure", "newton_iterations"]
+COLUMNS = declare(
+    Column("load", "1", "the tensions' fraction of their targets"),
+    Column("gamma_l", "mu R0", "the liquid's tension at this load"),
+    Column("ridge_height", "1", "the wetting ridge's height u_z(R0) / R0"),
+    Column("ridge_height_normalised", "1", "mu u_z(R0) / ((1 - nu) gamma_l)"),
+    Column("tip_r", "1", "the ridge tip's radius over R0"), Column("tip_z", "1", "the ridge tip's height over R0"),
+    Column("cap_angle_deg", "deg", "the drop's cap angle at the contact line"),
+    Column("cusp_angle_deg", "deg", "the solid's wedge at the tip (chords extrapolated to the tip)"),
+    Column("liquid_angle_deg", "deg", "the liquid's wedge at the tip"),
+    Column("vapour_angle_deg", "deg", "the vapour's wedge at the tip"),
+    Column("cusp_angle_chord_deg", "deg", "the solid's wedge between the chords to R0 -/+ delta"),
+    Column("neumann_residual", "1", "|the three tensions' sum along their wedges| over the largest tension"),
+    Column("neumann_misfit", "1", "the tensions' sum normal to the liquid's side, over gamma_l (0: Neumann)"),
+    Column("drop_volume", "R0^3", "the drop's volume (nan for the linear model)"),
+    Column("laplace_pressure", "gamma_l / R0", "the drop's pressure over gamma_l / R0"),
+    Column("newton_iterations", "1", "Newton iterations of the step"))
 
 
 @dataclass(frozen=True)
