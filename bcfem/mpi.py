@@ -41,12 +41,12 @@ class PointEvaluator:
         tree = geometry.bb_tree(mesh, tdim, padding=1e-12)
         candidates = geometry.compute_collisions_points(tree, x)
         cells = geometry.compute_colliding_cells(mesh, candidates, x).links(0)
-        cells = [c for c in cells if c < imap.size_local]
-        rank_with_cell = self.comm.rank if cells else self.comm.size
+        owned = [c for c in cells if c < imap.size_local]
+        rank_with_cell = self.comm.rank if owned else self.comm.size
         self.owner = self.comm.allreduce(rank_with_cell, op=MPI.MIN)
         if self.owner == self.comm.size:
             raise ValueError(f"point {point} lies outside the mesh")
-        self.cell = np.array(cells[:1] if self.comm.rank == self.owner else [], dtype=np.int32)
+        self.cell = np.array(owned[:1] if self.comm.rank == self.owner else [], dtype=np.int32)
         self.mesh = mesh
         self.x = x
 

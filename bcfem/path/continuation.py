@@ -142,8 +142,8 @@ class ArcLength:
         for name, i in parts.items():
             self._tangent_parts[name].x.array[:] = tangent[i] / self.norm[name] ** 2
             self._anchor_parts[name].x.array[:] = anchor[i]
-        self.t_lam.value = float(tangent[il][0]) / self.load_scale**2
-        self.lam_anchor.value = float(anchor[il][0])
+        self.t_lam.value = np.asarray(float(tangent[il][0]) / self.load_scale**2)
+        self.lam_anchor.value = np.asarray(float(anchor[il][0]))
 
     def _tangent(self, problem) -> list[np.ndarray]:
         """Unit tangent at the current (converged) state, oriented along the current row."""
@@ -232,8 +232,8 @@ class ArcLength:
         parts, il = self._index(problem)
         zero = [np.zeros_like(s.x.array) for s in problem.states]
         self._set_hyperplane(problem, zero, zero)
-        self.t_lam.value = 1.0 / self.load_scale**2
-        self.lam_anchor.value = float(value)
+        self.t_lam.value = np.asarray(1.0 / self.load_scale**2)
+        self.lam_anchor.value = np.asarray(float(value))
         problem.state(self.parameter).x.array[:] = value
 
     def restart_row(self, problem) -> None:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import numpy as np
 import ufl
 from dolfinx import fem
 
@@ -51,7 +52,7 @@ class VolumeControl:
             trial = current + step
             if (step > 0 and trial > value) or (step < 0 and trial < value):
                 trial = value
-            self.target.value = trial
+            self.target.value = np.asarray(trial)
             if problem.solve():
                 current = trial
                 if trial == value:

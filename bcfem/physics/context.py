@@ -21,6 +21,7 @@ from typing import Any
 
 import basix.ufl
 import dolfinx
+import numpy as np
 import ufl
 from dolfinx import fem
 
@@ -48,7 +49,7 @@ class Context:
         self.u = u
         self.kin = kinematics
         self.mesh = u.function_space.mesh
-        self._real_space = None
+        self._real_space: fem.FunctionSpace | None = None
         self._states: dict[str, fem.Function] = {"displacement": u}
         self._constants: dict[str, fem.Constant] = {}
         # id(owner) -> (owner, its copy with constants): the owner is kept so its id stays its own
@@ -160,7 +161,7 @@ class Context:
         if not found:
             raise KeyError(f"no run-time constant is named {name!r} (named: {sorted(self.names)})")
         for constant in found:
-            constant.value = value
+            constant.value = np.asarray(value)
 
     def value(self, name: str) -> float:
         """The value of the constants named ``name`` (:meth:`set`)."""

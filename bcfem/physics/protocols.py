@@ -235,3 +235,19 @@ class Enclosure(Protocol):
     """What encloses a fluid: its current volume as a form in the kinematics (:mod:`bcfem.physics.cavity`)."""
 
     def volume(self, kin) -> ufl.Form: ...
+
+
+def total_energy(ctx, terms: Iterable) -> ufl.Form:
+    """The sum of the terms' energies (one scalar form; discrete terms are not forms and are
+    left out).
+
+    Raises:
+        ValueError: no term is a form.
+    """
+    energies = [t.energy(ctx) for t in terms if not isinstance(t, DiscreteTerm)]
+    if not energies:
+        raise ValueError("no energy: none of the terms is a form")
+    total = energies[0]
+    for energy in energies[1:]:
+        total = total + energy
+    return total

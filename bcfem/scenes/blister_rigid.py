@@ -33,7 +33,7 @@ from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension
 from bcfem.physics.materials import MATERIALS, Gent, NeoHookean
 from bcfem.physics.observables import Integral, Measured, Observable, RealState, cavity_volume, pressure, row
-from bcfem.physics.protocols import Term
+from bcfem.physics.protocols import Term, total_energy
 from bcfem.radial_profile import RadialProfile, check_resolved, shape_of
 from bcfem.radial_profile import parse as parse_profile
 from bcfem.run.scene import BranchScene
@@ -328,7 +328,7 @@ def observables(ctx, terms) -> Callable[[], dict]:
         pressure(ctx.real_state("pressure")),
         Measured(SHARED["aspect"], lambda: float(apex()[0])),
         Measured(SHARED["contact_angle_deg"], contact_angle),
-        Integral.of("energy", sum(t.energy(ctx) for t in terms), math.pi),
+        Integral.of("energy", total_energy(ctx, terms), math.pi),
         Measured(SHARED["I1_minus_3_max"], I1),
         Measured(N_THETA_MIN, lambda: -hoop_compression()),
         RealState(SHARED["R1_over_R0"], ctx.states["debond_radius"]) if "debond_radius" in ctx.states
@@ -339,7 +339,7 @@ def observables(ctx, terms) -> Callable[[], dict]:
         R1 = ctx.states["debond_radius"]
         one = fem.Function(R1.function_space)
         one.x.array[:] = 1.0
-        measures.append(Integral.of(DPI_DR1, ufl.derivative(sum(t.energy(ctx) for t in terms), R1, one), math.pi))
+        measures.append(Integral.of(DPI_DR1, ufl.derivative(total_energy(ctx, terms), R1, one), math.pi))
     return lambda: row(measures)
 
 

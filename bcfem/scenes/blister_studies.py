@@ -15,12 +15,14 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, replace
 
+import numpy as np
 from dolfinx import fem
 
 from bcfem.mpi import global_sum, real_value
 from bcfem.params import Bound, require
 from bcfem.path.continuation import ContinuationError
 from bcfem.path.volume_control import VolumeControl
+from bcfem.physics.protocols import total_energy
 from bcfem.run.session import Sessions
 from bcfem.scenes.blister_rigid import V0, Params, build, compose, scene_for, structure
 from bcfem.solver.problem import Problem
@@ -65,7 +67,7 @@ def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float
     with Problem(ctx, scene.terms, scene.bcs, scene.prefix, scene.petsc_options, rows=scene.rows,
                  energy_scale=scene.load_scale) as problem:
         control = VolumeControl.membrane(ctx)
-        energy = fem.form(sum(t.energy(ctx) for t in scene.terms))
+        energy = fem.form(total_energy(ctx, scene.terms))
 
         def helmholtz(v, radius):
             held.value = radius
@@ -77,7 +79,7 @@ def onset_by_energy(params: Params, comm, bracket: tuple[float, float], h: float
             return (helmholtz(v, 1 + h) - helmholtz(v, 1 - h)) / (2 * h)
 
         vc = brentq(slope, *bracket, xtol=xtol)
-        held.value = 1.0
+        held.value = np.asarray(1.0)
         R1.x.array[:] = 1.0
         control.solve_to(problem, vc * V0)
         return {"V_over_V0": vc, "P": real_value(ctx.states["pressure"]), "dF_dR1": slope(vc),

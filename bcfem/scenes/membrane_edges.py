@@ -125,7 +125,7 @@ def moving_front(ctx):
 
     def restart():
         R1.x.array[:] = 1.0
-        free.value = 0.0
+        free.value = np.asarray(0.0)
         held_at.value = 1.0
 
     restart()

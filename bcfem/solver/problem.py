@@ -20,7 +20,7 @@ from dolfinx.fem.petsc import NonlinearProblem, assign
 
 from bcfem import interrupt, jit
 from bcfem.log import logger
-from bcfem.physics.protocols import DiscreteTerm
+from bcfem.physics.protocols import DiscreteTerm, total_energy
 from bcfem.solver import fieldsplit, options, petsc_events, pivots
 from bcfem.solver.algebra import ConvergedAlgebra
 from bcfem.solver.assembly import Assembly
@@ -64,7 +64,7 @@ class Problem(ConvergedAlgebra):
         self.ctx = ctx
         self.terms = checked_terms(terms)
         self.discrete = [t for t in self.terms if isinstance(t, DiscreteTerm)]
-        self.lagrangian = sum(t.energy(ctx) for t in self.terms if not isinstance(t, DiscreteTerm))
+        self.lagrangian = total_energy(ctx, self.terms)
         rows = rows or {}
         # a Constant, so that a new scale does not mean a new compiled form
         inverse_scale = fem.Constant(ctx.mesh, 1.0 / energy_scale)
@@ -400,7 +400,7 @@ class Problem(ConvergedAlgebra):
         self._bounds = ()
         if self._nlp is not None:
             del self._nlp
-            self._nlp = None
+            self._nlp = None  # type: ignore[assignment]  # closed: the Problem is not used again
 
     def __enter__(self):
         return self

@@ -19,7 +19,9 @@ class UnliftedResidual:
 
     def __init__(self, b: PETSc.Vec, u, residual, jacobian, bcs, _blocks):
         self.u, self.forms, self.blocks = u, residual, _blocks
-        self.bcs = fem.bcs_by_block(fem.extract_function_spaces(residual), bcs)
+        spaces = fem.extract_function_spaces(residual)
+        assert isinstance(spaces, list), "a blocked residual has a space per block"
+        self.bcs = fem.bcs_by_block(spaces, bcs)
         self.misfit = b.duplicate()
         self.misfit.setAttr("_blocks", _blocks)
 

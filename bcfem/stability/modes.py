@@ -51,7 +51,7 @@ from dolfinx import default_scalar_type, fem
 from dolfinx.fem.petsc import assemble_matrix, create_matrix
 
 from bcfem.mpi import global_dofs
-from bcfem.physics.protocols import DiscreteTerm
+from bcfem.physics.protocols import DiscreteTerm, total_energy
 from bcfem.stability.inertia import Inertia
 
 
@@ -173,7 +173,7 @@ class ModeAnalysis:
         V = mctx.space
         if not np.allclose(V.tabulate_dof_coordinates(), self.ctx.u.function_space.tabulate_dof_coordinates()):
             raise RuntimeError("the mode's dofs do not follow the displacement's node numbering")
-        lagrangian = sum(t.energy(mctx) for t in self.terms)
+        lagrangian = total_energy(mctx, self.terms)
         if translation:
             shift = mctx.multiplier("translation")
             # mean sideways displacement e_x . (a cos e_r + b sin e_theta) over the body
@@ -192,7 +192,7 @@ class ModeAnalysis:
                 block = ufl.algorithms.expand_derivatives(block)
                 row.append(None if block.empty() else block)
             blocks.append(row)
-        forms = fem.form(blocks)
+        forms = fem.form(blocks)  # type: ignore[arg-type]  # dolfinx takes None for an empty block
         return {"forms": forms, "space": V, "multipliers": multipliers,
                 "nodes": V.tabulate_dof_coordinates(), "matrix": create_matrix(forms), "nodal": [],
                 "inertia": Inertia(self.prefix)}
@@ -219,13 +219,13 @@ class ModeAnalysis:
         fixed[2].append(on_axis)  # b = 0, or a + b = 0 for n = 1
         if n >= 2:
             fixed[0].append(on_axis)
-        return [fem.dirichletbc(default_scalar_type(0.0), (3 * np.unique(np.concatenate(nodes)) + k).astype(np.int32),
+        return [fem.dirichletbc(0.0, (3 * np.unique(np.concatenate(nodes)) + k).astype(np.int32),
                                 V.sub(k)) for k, nodes in fixed.items() if nodes]
 
     def _assemble(self, compiled, n: int, bcs, A: PETSc.Mat) -> PETSc.Mat:
-        self.n.value = float(n)
+        self.n.value = np.asarray(float(n))
         A.zeroEntries()
-        assemble_matrix(A, compiled["forms"], bcs=bcs)
+        assemble_matrix(A, compiled["forms"], bcs=bcs)  # type: ignore[misc]  # the Mat overload of a singledispatch
         A.assemble()
         return A
 

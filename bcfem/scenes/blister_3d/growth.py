@@ -61,6 +61,7 @@ class MeshMotion:
         values[nodes] = vectors
         self.boundary.x.scatter_forward()
         extension = self.problem.solve()
+        assert isinstance(extension, fem.Function), "one unknown"
         self.moved.interpolate(extension)
         shift = self.moved.x.array.reshape(-1, 2)[self.node_of]
         self.msh.geometry.x[:, :2] += shift

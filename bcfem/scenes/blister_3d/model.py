@@ -23,6 +23,7 @@ from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTension, WettedSubstrate
 from bcfem.physics.materials import slopes
 from bcfem.physics.observables import Integral, Measured, Observable, cavity_volume, row
+from bcfem.physics.protocols import total_energy
 from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
 from bcfem.scenes.blister_3d.mirrored import create_mirrored_mesh
 from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, CLAMPED_COLUMNS, V0, Params
@@ -90,7 +91,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     release = None
     if adhesive:  # Pi with the pressure's work -p V (under volume control the target is no energy)
         work = kin.integral(-pressure * kin.volume_density)
-        release = ReleaseRate(ctx, sum(t.energy(ctx) for t in terms if not isinstance(t, PressureVolume)) + work,
+        release = ReleaseRate(ctx, total_energy(ctx, [t for t in terms if not isinstance(t, PressureVolume)]) + work,
                               edge_facets, cost, scale)
 
     column = {c.name: c for c in ADHESIVE_COLUMNS}
@@ -99,7 +100,7 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
         observables.pressure(pressure),
         Measured(column["aspect"], lambda: msh.comm.allreduce(float(u.x.array[heights].max(initial=-np.inf)),
                                                               op=MPI.MAX)),
-        Integral.of("energy", sum(t.energy(ctx) for t in terms), math.pi),
+        Integral.of("energy", total_energy(ctx, terms), math.pi),
         Measured(column["stretch_max"], stretch),
         Measured(column["I1_minus_3_max"], I1),
         Measured(column["N2_min"], lambda: -compression()),

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from mpi4py import MPI
 
+import numpy as np
 import ufl
 from dolfinx import fem
 from dolfinx.fem.petsc import LinearProblem
@@ -42,8 +43,10 @@ class FopplStart:
         P = fem.functionspace(msh, ("Lagrange", degree, (2,)))
         w, q = ufl.TrialFunction(S), ufl.TestFunction(S)
         bc = fem.dirichletbc(0.0, fem.locate_dofs_topological(S, fdim, edge_facets), S)
-        self.w = LinearProblem(ufl.inner(ufl.grad(w), ufl.grad(q)) * ufl.dx, q * ufl.dx, bcs=[bc],
-                               petsc_options_prefix="bcfem_blister_3d_shape_", petsc_options=_SOLVER).solve()
+        shape = LinearProblem(ufl.inner(ufl.grad(w), ufl.grad(q)) * ufl.dx, q * ufl.dx, bcs=[bc],
+                              petsc_options_prefix="bcfem_blister_3d_shape_", petsc_options=_SOLVER).solve()
+        assert isinstance(shape, fem.Function), "one unknown"
+        self.w = shape
         peak = msh.comm.allreduce(float(self.w.x.array.max(initial=0.0)), op=MPI.MAX)
         self.w.x.array[:] /= peak
 
@@ -71,7 +74,7 @@ class FopplStart:
         """Set ``u`` to the shape of enclosed ``volume`` (to first order); returns the pressure
         of the Föppl membrane of modulus ``stiffness`` plus that of an isotropic ``tension``."""
         h = volume / self.shape_volume
-        self._h.value = h
+        self._h.value = np.asarray(h)
         u.interpolate(self._shape)
         # dU/dV of U = h^4 U1 stiffness + tension h^2 slope_area, V = h shape_volume
         return (4 * h**3 * self.stretching * stiffness + 2 * h * self.slope_area * tension) / self.shape_volume

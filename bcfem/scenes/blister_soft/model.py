@@ -61,6 +61,7 @@ from bcfem.physics.composite import OnSurface, Scaled
 from bcfem.physics.context import Context
 from bcfem.physics.energies import MembraneStrain, PressureVolume, SolidStrain, SurfaceTension
 from bcfem.physics.materials import Gent, NearlyIncompressibleNeoHookean, NeoHookean
+from bcfem.physics.protocols import total_energy
 from bcfem.radial_profile import RadialProfile, scale_of, shape_of
 from bcfem.run.scene import BranchScene
 from bcfem.scenes.blister_soft.front import front_weight, material_coordinates, weight_function
@@ -134,7 +135,7 @@ class Model:
         return [fem.dirichletbc(zero, bottom, V),
                 component(V, 0, facets.find(FAR)), component(V, 0, facets.find(AXIS)),
                 fem.dirichletbc(zero, self.patch.vertex_dofs(W, (1.0, 0.0)), W),
-                fem.dirichletbc(default_scalar_type(0), self.patch.vertex_dofs(W.sub(0), (0.0, 0.0)), W.sub(0))]
+                fem.dirichletbc(0.0, self.patch.vertex_dofs(W.sub(0), (0.0, 0.0)), W.sub(0))]
 
     def form(self, expr):
         return fem.form(expr, entity_maps=self.ctx.entity_maps)
@@ -227,7 +228,7 @@ def observables(model: Model):
     f = model.free
     compressed = ufl.conditional(ufl.Or(ufl.lt(f.lam_theta**2 * f.lam_r, 1), ufl.lt(f.lam_r**2 * f.lam_theta, 1)), 1, 0)
     compressed = model.form(f.integral(compressed))
-    energy = model.form(sum(t.energy(ctx) for t in model.terms))
+    energy = model.form(total_energy(ctx, model.terms))
     centre = PointEvaluator(model.mesh, [0.0, 0.0]).expression(u[1])
     W = w.function_space
     axis = model.patch.vertex_dofs(W, (0.0, 0.0))
@@ -242,7 +243,7 @@ def observables(model: Model):
         one = fem.Function(R1.function_space)
         one.x.array[:] = 1.0
         # the configurational force on the front, d Pi/d R1 at fixed positions (the J-integral)
-        front = model.form(ufl.derivative(sum(t.energy(ctx) for t in model.terms), R1, one))
+        front = model.form(ufl.derivative(total_energy(ctx, model.terms), R1, one))
 
     def observe() -> dict:
         lift_apex = comm.allreduce(float(w.x.array.reshape(-1, 2)[owned_axis, 1].sum()))

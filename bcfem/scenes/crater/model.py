@@ -86,7 +86,7 @@ class Crater:
         self._bottom = (Vz.tabulate_dof_coordinates()[bottom], np.asarray(zmap).reshape(-1)[bottom],
                         np.asarray(rmap).reshape(-1)[bottom])
         #: the platen displacement as an unknown (``path = fundamental``), else None
-        self.platen_state = None
+        self.platen_state: fem.Function | None = None
         lift = self._lift(V, msh.comm)
         if self.bottom_contact:
             facets = self._tag_sealed_bottom(msh, facets)

@@ -90,7 +90,7 @@ class CellModel:
         self._wall_nodes = fem.locate_dofs_topological(V, 2, wall_facets)
         self._nodes = V.tabulate_dof_coordinates()
         self.strain = 0.0
-        self._force = None
+        self._force: fem.Form | None = None
         #: a whole crater's volume and opening at rest; the cell holds ``craters`` of them
         self.V0, self.A0, self.craters = cell.crater_volume, math.pi * a**2, cell.craters
 
@@ -113,7 +113,9 @@ class CellModel:
         self._force = fem.form(ufl.derivative(problem.lagrangian, self.u, w), entity_maps=self.ctx.entity_maps or None)
 
     def platen_force(self) -> float:
-        """The platen's force on the cell, in p_a mm² (collective)."""
+        """The platen's force on the cell, in p_a mm² (collective; :meth:`measure_force` first)."""
+        if self._force is None:
+            raise RuntimeError("measure_force(problem) first")
         return global_sum(self._force)
 
     def volumes(self) -> list[float]:

@@ -96,8 +96,8 @@ class ChamberSplit:
 
     def move(self, sidewall_height: float, protuberance_height: float) -> tuple[float, float]:
         """Split at the vertices nearest the given reference heights; returns (Z_w, Z_b) as set."""
-        self.sidewall_height.value = self.snap(self.sidewall, sidewall_height)
-        self.protuberance_height.value = self.snap(self.protuberance, protuberance_height)
+        self.sidewall_height.value = np.asarray(self.snap(self.sidewall, sidewall_height))
+        self.protuberance_height.value = np.asarray(self.snap(self.protuberance, protuberance_height))
         return float(self.sidewall_height.value), float(self.protuberance_height.value)
 
     def chambers(self) -> tuple[Chamber, Chamber]:

@@ -91,7 +91,7 @@ class Sector:
         return 2 * math.pi * self.sector.crater_radius**3 / 3 / self.sector.share
 
     def set_platen(self, eps: float) -> None:
-        self.platen.value = -eps * self.sector.height
+        self.platen.value = np.asarray(-eps * self.sector.height)
 
     def lowest_wall_point(self) -> float:
         z = self.nodes[self.wall_nodes, 2] + self.u.x.array.reshape(-1, 3)[self.wall_nodes, 2]

@@ -84,7 +84,7 @@ def suction_stability(suctions, beta: float = 47.3 / 101.325, kappa_ratio: float
     suction = model.ctx.constant("vacuum_load")
 
     def set_suction(s: float) -> None:
-        suction.value = s
+        suction.value = np.asarray(s)
 
     return first_onset(model, [*model.terms, Vacuum(Cavity(WALL))], set_suction, suctions, bisections, "s")
 
@@ -107,7 +107,7 @@ def drawn_stability(removed, beta: float = 47.3 / 101.325, kappa_ratio: float = 
     amount = model.ctx.parameter(liquid, "sealed_volume")
 
     def set_removed(r: float) -> None:
-        amount.value = (1 - r) * V0
+        amount.value = np.asarray((1 - r) * V0)
 
     def beyond(problem, below: float) -> dict:
         def count(r: float) -> int:  # at fixed volume: the physical stability of a branch's state
