@@ -46,7 +46,7 @@ _PUBLIC = {
     "Kinematics": "bcfem.physics.protocols",
     "Term": "bcfem.physics.protocols",
     "find_term": "bcfem.physics.protocols",
-    "Scene": "bcfem.run.scene",
+    "Scene": "bcfem.run.stages",
     "BranchScene": "bcfem.run.scene",
     "Stage": "bcfem.run.stages",
     "StagedScene": "bcfem.run.stages",

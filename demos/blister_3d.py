@@ -39,7 +39,7 @@ import numpy as np
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.trace import branch_of, trace
+from bcfem.run.study import Study
 from bcfem.scenes import blister_3d, blister_rigid
 from bcfem.scenes.blister_3d.report import gather_surface, membrane_figure
 
@@ -48,6 +48,7 @@ SIZE = 0.15  # element size over R0
 STEPS = ContinuationParams(ds=0.02, ds_max=0.04)  # small steps: smooth curves
 args, report = demo.setup("blister_3d", "Blisters of any outline in 3-D (dissertation section 10.2)", comm,
                           refine=f"element size {SIZE / 2} R0 instead of {SIZE}")
+study = Study("blister_3d", comm, args.out)  # every solve counted; summary.json in the runner's schema
 SIZE /= 2 if args.refine else 1
 V_END = 0.75  # V/V0: past every maximum (the circle's is at 0.668)
 HEXAGON = np.array([[np.cos(t), np.sin(t)] for t in np.linspace(0, 2 * np.pi, 7)[:-1]])
@@ -69,13 +70,12 @@ for name, fields in OUTLINES.items():
     # relaxed: a taut membrane with compressed corners can lose Newton (rectangle 2:1 at V/V0 0.43)
     scene = blister_3d.build(blister_3d.Params(size=SIZE, v_max=V_END, wrinkles="relaxed", continuation=STEPS,
                                                **fields), comm)
-    branch, problem = trace(scene)
-    problem.close()
+    branch = study.branch(scene)
     curves[name] = branch.rows
     tops[name] = next(lp.values for lp in branch.limit_points if lp.kind == "max")
     surfaces[name] = gather_surface(scene.fields[0], (scene.fields[1], scene.fields[3]), comm)
     report(f"{name:14s}: P_max = {tops[name]['P']:.6f} at V/V0 = {tops[name]['V_over_V0']:.4f}")
-axisymmetric = branch_of(blister_rigid.build(blister_rigid.Params(material="neo-hookean", v_max=V_END), comm))
+axisymmetric = study.branch(blister_rigid.build(blister_rigid.Params(material="neo-hookean", v_max=V_END), comm))
 
 # %% [markdown]
 # ## Wrinkles: a rectangle of aspect 4, taut and relaxed, before its maximum
@@ -88,8 +88,7 @@ for mode in ("taut", "relaxed"):
     steps = STEPS if mode == "relaxed" else ContinuationParams(ds=0.03, ds_max=0.05)
     scene = blister_3d.build(blister_3d.Params(outline="rectangle", aspect=4.0, size=SIZE, v_max=0.35,
                                                wrinkles=mode, continuation=steps), comm)
-    branch, problem = trace(scene)
-    problem.close()
+    branch = study.branch(scene)
     wrinkles[mode] = branch.rows[-1]
     if mode == "relaxed":
         surfaces["rectangle 4:1, relaxed"] = gather_surface(scene.fields[0], (scene.fields[1], scene.fields[3]), comm)
@@ -125,8 +124,7 @@ io.write_csv(args.out / "curves.csv",
              [{"outline": name, "V_over_V0": r["V_over_V0"], "P": r["P"], "aspect": r["aspect"],
                "wrinkled_fraction": r["wrinkled_fraction"]} for name, rows in curves.items() for r in rows],
              comm, columns=["outline", "V_over_V0", "P", "aspect", "wrinkled_fraction"])
-io.write_json(args.out / "numbers.json", {"P_max": {n: t["P"] for n, t in tops.items()},
-                                          "V_at_P_max": {n: t["V_over_V0"] for n, t in tops.items()},
-                                          "rectangle_4_at_0.35": wrinkles, "size": SIZE}, comm)
+study.write({"P_max": {n: t["P"] for n, t in tops.items()}, "V_at_P_max": {n: t["V_over_V0"] for n, t in tops.items()},
+             "rectangle_4_at_0.35": wrinkles, "size": SIZE})
 report(json.dumps({n: round(t["P"], 6) for n, t in tops.items()}))
 assert Path(args.out).exists()

@@ -60,7 +60,7 @@ from scipy.interpolate import CubicSpline
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.trace import branch_of
+from bcfem.run.study import Study
 from bcfem.scenes import blister_rigid, blister_studies
 
 # %% [markdown]
@@ -90,6 +90,7 @@ DISSERTATION = {  # section 3.2.3, "Adhesive Boundary"
 comm = MPI.COMM_WORLD
 args, report = demo.setup("blister_adhesive", "Dissertation Figures 3.12-3.14: delamination of an adhesive blister",
                           comm, refine=f"{2 * CELLS} P{DEGREE} cells across the blister instead of {CELLS}")
+study = Study("blister_adhesive", comm, args.out)  # every solve counted; summary.json in the runner's schema
 CELLS *= 2 if args.refine else 1
 
 
@@ -98,7 +99,7 @@ CELLS *= 2 if args.refine else 1
 #
 # Per material: the adhesive blister (edge held, then released at the onset
 # event) and the clamped one, both to `v_max`. Each `trace` is collective and
-# every problem is closed by `branch_of`. The Gent side views are the final
+# every problem is closed by `study.branch`. The Gent side views are the final
 # states, at $V/V_0 = 3$ exactly (the end of a branch is a located event).
 
 # %%
@@ -113,7 +114,7 @@ t0 = time.perf_counter()
 for name, case in MATERIALS.items():
     for edge in ("clamped", "adhesive"):
         scene = blister_rigid.build(parameters(name, edge), comm)
-        branches[name, edge] = branch_of(scene)
+        branches[name, edge] = study.branch(scene)
         if name == "gent-Jm100":
             profiles[edge] = blister_rigid.profile(scene)  # collective, at V/V0 = V_SIDE
     (event,) = branches[name, "adhesive"].events
@@ -311,14 +312,14 @@ for key in ("Vc_gent-Jm100", "Vc_gent-Jm100_later_sentence", "Vc_neo-hookean"):
 # and strictly better beyond $V_c$, which is what is asserted.
 
 # %%
-io.write_json(args.out / "summary.json", {
+study.write({
     "parameters": {"alpha": ALPHA, "adhesion": ADHESION, "cells": CELLS, "degree": DEGREE,
                    "materials": {k: {**v["fields"], "v_max": v["v_max"]} for k, v in MATERIALS.items()},
                    "continuation": asdict(CONTINUATION)},
     "onset": {name: {"event": o["event"], "energy_comparison": o["energy"]} for name, o in onsets.items()},
     "checks": checks, "dissertation_comparison": compare,
-    "ranks": comm.size, "wall_time_s": wall,
-}, comm)
+    "continuation_s": wall,
+})
 
 # %% [markdown]
 # ## Plot (rank 0)

@@ -80,7 +80,7 @@ from bcfem import ContinuationParams, io
 from bcfem.log import logger
 from bcfem.path.continuation import ContinuationError
 from bcfem.run import demo, sweep
-from bcfem.run.trace import branch_of
+from bcfem.run.study import Study
 from bcfem.scenes import blister_rigid, blister_studies
 
 # %% [markdown]
@@ -114,6 +114,7 @@ args, report = demo.setup("blister_maps", "Dissertation Figures 3.15-3.17: maps 
                           full="{} x {} (alpha, adhesion) points per material instead of {} x {}".format(
                               *GRID["full"], *GRID["default"]),
                           refine=f"{2 * CELLS} P{DEGREE} cells across the blister instead of {CELLS}")
+study = Study("blister_maps", comm, args.out)  # every solve counted; summary.json in the runner's schema
 CELLS *= 2 if args.refine else 1
 full = args.full
 n_alpha, n_adhesion = GRID["full" if full else "default"]
@@ -195,7 +196,7 @@ t_maps = time.perf_counter() - t0
 def release_rate_limit(params, comm) -> dict:
     """sup g(V) for V/V0 <= v_max, its Aitken extrapolation from V/V0 = v_max/4, v_max/2, v_max,
     and the blister at v_max: the map values of the adhesion g_sup, whose onset is at v_max."""
-    branch = branch_of(blister_rigid.build(params, comm))
+    branch = study.branch(blister_rigid.build(params, comm))
     assert not branch.events, "the never-reached adhesion was reached"
     V = branch.column("V_over_V0")
     g = params.adhesion - 0.5 * branch.column("dPi_dR1")
@@ -323,7 +324,7 @@ checks = {
     "fit_reproduces_targets": {"aspect1": check_fit["aspect1"], "P1": check_fit["P1"]},
     "near_border": near,
 }
-io.write_json(args.out / "summary.json", {
+study.write({
     "parameters": {"alpha_range": ALPHA_RANGE, "adhesion_range": ADHESION_RANGE, "grid": [n_alpha, n_adhesion],
                    "cells": CELLS, "degree": DEGREE, "never_adhesion": NEVER_ADHESION,
                    "materials": {k: {**v["fields"], "v_max": v["v_max"]} for k, v in MATERIALS.items()},
@@ -334,9 +335,8 @@ io.write_json(args.out / "summary.json", {
             "ours_at_dissertation_point": at_dissertation},
     "neo_hookean_never_boundary": never,
     "checks": checks,
-    "ranks": comm.size,
-    "wall_time_s": {"maps": t_maps, "never_boundary": t_never, "fit": t_fit},
-}, comm)
+    "parts_s": {"maps": t_maps, "never_boundary": t_never, "fit": t_fit},
+})
 
 # %% [markdown]
 # ## Plot (rank 0)

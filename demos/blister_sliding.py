@@ -72,7 +72,7 @@ import numpy as np
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.trace import branch_of
+from bcfem.run.study import Study
 from bcfem.scenes import blister_rigid
 
 # %% [markdown]
@@ -110,6 +110,7 @@ CELLS = 160  # P2 cells across R0
 comm = MPI.COMM_WORLD
 args, report = demo.setup("blister_sliding", "Dissertation Figures 3.7, 3.8, 3.10: blisters with a sliding edge",
                           comm, refine=f"{2 * CELLS} P{DEGREE} cells across R0 instead of {CELLS}")
+study = Study("blister_sliding", comm, args.out)  # every solve counted; summary.json in the runner's schema
 CELLS *= 2 if args.refine else 1
 
 
@@ -120,7 +121,7 @@ CELLS *= 2 if args.refine else 1
 # term $-\alpha\cos\phi_Y\,\pi r_1^2$ vanishes, so $\phi_Y$ plays no role: that
 # branch is traced once and is the common black curve of Fig. 3.8. The droplet
 # limit is the same scene with a membrane $10^4$ times softer than $\gamma_l$.
-# Each `branch_of` is collective and closes its PETSc objects; the final state
+# Each `study.branch` is collective and closes its PETSc objects; the final state
 # (at $V_{\max}$) stays in the scene, and its sampled profile gives the edge
 # traction $N_r^-$ for the check of eq. 3.70.
 
@@ -151,7 +152,7 @@ for phi_Y in PHI_Y_DEG:
             continue
         fields = DROPLET if alpha == math.inf else dict(alpha=alpha)
         scene = blister_rigid.build(parameters(phi_Y, **fields), comm)
-        branch = branch_of(scene)
+        branch = study.branch(scene)
         branches[phi_Y, alpha] = branch
         if 0 < alpha < math.inf and phi_Y != 90.0:  # at 90 deg both sides of eq. 3.70 vanish
             edge_N_r[phi_Y, alpha] = edge_traction(blister_rigid.profile(scene, SAMPLES))
@@ -190,7 +191,7 @@ def shrinking_to(scene, v_end: float):
 wrapped, wrapped_rows = {}, {}
 for alpha in ALPHA_WRAP:
     scene = shrinking_to(blister_rigid.build(parameters(PHI_Y_MAIN, alpha), comm), V_WRAP)
-    wrapped_rows[alpha] = branch_of(scene).rows[-1]
+    wrapped_rows[alpha] = study.branch(scene).rows[-1]
     wrapped[alpha] = blister_rigid.profile(scene, SAMPLES)
     row = wrapped_rows[alpha]
     report(f"wrapping, phi_Y={PHI_Y_MAIN:g} alpha={alpha:g} at V/V0={row['V_over_V0']:.6f}: "
@@ -332,7 +333,7 @@ report(f"eq. 3.70 at V/V0 = {V_MAX:g}: "
 report(f"phi_Y=45 contact angle at V/V0={V_START}: "
        + ", ".join(f"alpha={a}: {t:.2f} deg" for a, t in small_45.items())
        + " (below phi_Y: compressive N_r at the edge)")
-io.write_json(args.out / "summary.json", {
+study.write({
     "parameters": {"phi_Y_deg": PHI_Y_DEG, "alphas": ALPHAS, "droplet": DROPLET, "v_start": V_START,
                    "v_max": V_MAX, "v_wrap": V_WRAP, "cells": CELLS, "degree": DEGREE,
                    "continuation": asdict(CONTINUATION)},
@@ -343,8 +344,8 @@ io.write_json(args.out / "summary.json", {
     "dissertation": DISSERTATION,
     "droplet_aspect_vs_printed": {"ours": ours, "printed": printed, "relative_difference": ours / printed - 1},
     "phi_Y_45_angle_at_v_start_deg": small_45,
-    "checks": checks, "ranks": comm.size, "wall_time_s": wall,
-}, comm)
+    "checks": checks, "continuation_s": wall,
+})
 
 # %% [markdown]
 # ## Plot (rank 0)

@@ -58,7 +58,7 @@ import numpy as np
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.trace import branch_of
+from bcfem.run.study import Study
 from bcfem.scenes import blister_rigid, blister_studies
 
 # %% [markdown]
@@ -94,6 +94,7 @@ CELLS = 80  # P2 cells per zone (blister, bonded annulus)
 comm = MPI.COMM_WORLD
 args, report = demo.setup("blister_slippery", "Dissertation Figures 3.18-3.20: blisters with a slippery edge", comm,
                           refine=f"{2 * CELLS} P{DEGREE} cells per zone instead of {CELLS}")
+study = Study("blister_slippery", comm, args.out)  # every solve counted; summary.json in the runner's schema
 CELLS *= 2 if args.refine else 1
 
 
@@ -106,7 +107,7 @@ CELLS *= 2 if args.refine else 1
 # removed. The branches start at $V/V_0 \approx 0.3$ and are traced both ways.
 # Then the onset once more by the dissertation's method, comparing
 # $F(V, R_0 \pm h)$ at fixed volume, and the adhesive edge with the same
-# parameters for comparison. Each `branch_of` is collective and closes its
+# parameters for comparison. Each `study.branch` is collective and closes its
 # PETSc objects.
 
 # %%
@@ -123,7 +124,7 @@ def traced(v_max: float, propagation: bool):
     scene = blister_rigid.build(parameters(v_max), comm)
     if not propagation:
         scene.switches = []  # R1 stays held at R0
-    return scene, branch_of(scene)
+    return scene, study.branch(scene)
 
 
 def helmholtz(row: dict) -> float:
@@ -144,7 +145,7 @@ for case, propagation in CASES.items():
            f"theta={row['contact_angle_deg']:.2f} deg, min N_theta={row['N_theta_min']:.4f}")
 (event,) = branches["with"].events
 by_energy = blister_studies.onset_by_energy(parameters(V_MAX), comm, bracket=BRACKET)
-adhesive = branch_of(blister_rigid.build(parameters(1.6, edge="adhesive"), comm))
+adhesive = study.branch(blister_rigid.build(parameters(1.6, edge="adhesive"), comm))
 vc_adhesive = adhesive.events[0]["V_over_V0"]
 wall = time.perf_counter() - t0
 report(f"onset: V/V0 = {event['V_over_V0']:.9f}, P = {event['P']:.6f} (event); "
@@ -296,15 +297,15 @@ report("F - F_a = (4/3) int P dV: relative error "
        + ", ".join(f"{c}: {e:.1e}" for c, e in checks["work_identity_error"].items())
        + f"; min F_without - F_with for V/V0 >= "
        f"{vc + MARGIN:.2f}: {checks['min_F_gap_after_onset']:.4f}")
-io.write_json(args.out / "summary.json", {
+study.write({
     "parameters": {**asdict(parameters(V_MAX)), "v_side": V_SIDE, "bracket": BRACKET},
     "dissertation": DISSERTATION,
     "ours_vs_dissertation": {k: {"ours": o, "dissertation": t, "relative_difference": o / t - 1}
                              for k, (o, t) in ours_vs_text.items()},
     "side_states": side_rows,
     "onset_event": event, "onset_by_energy": by_energy,
-    "checks": checks, "ranks": comm.size, "wall_time_s": wall,
-}, comm)
+    "checks": checks, "continuation_s": wall,
+})
 
 # %% [markdown]
 # ## Plot (rank 0)

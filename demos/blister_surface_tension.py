@@ -50,7 +50,7 @@ from scipy.interpolate import CubicSpline
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.trace import branch_of
+from bcfem.run.study import Study
 from bcfem.scenes import blister_rigid
 
 # %% [markdown]
@@ -74,6 +74,7 @@ LAPLACE_TOL = 1e-3  # |P/P_Laplace - 1| at V_START (elastic correction ~2e-4 at 
 comm = MPI.COMM_WORLD
 args, report = demo.setup("blister_surface_tension", "Dissertation Figure 3.5: elasto-capillary clamped blisters", comm,
                           refine=f"{2 * CELLS} P{DEGREE} cells across R0 instead of {CELLS}")
+study = Study("blister_surface_tension", comm, args.out)  # every solve counted; summary.json in the runner's schema
 CELLS *= 2 if args.refine else 1
 
 
@@ -92,7 +93,7 @@ for name, material in MATERIALS.items():
         params = blister_rigid.Params(**material, alpha=alpha, v_max=V_MAX, v_start=V_START,
                                       cells=CELLS, degree=DEGREE, continuation=CONTINUATION)
         scene = blister_rigid.build(params, comm)
-        branch = branch_of(scene)
+        branch = study.branch(scene)
         branches[name, alpha] = branch
         report(f"{name:12s} alpha={alpha:3.1f}: {len(branch.rows):3d} points; limit points "
                + (", ".join(f"{lp.kind} P={lp.values['P']:.4f} at V/V0={lp.values['V_over_V0']:.4f}"
@@ -172,7 +173,7 @@ report(f"max |P_Gent/P_NH - 1| for V/V0 <= {V_SMALL}: "
        + ", ".join(f"alpha={a}: {g:.2e}" for a, g in law_gap_small.items()))
 report(f"P_Gent/P_NH - 1 at V/V0 = {V_MAX}: "
        + ", ".join(f"alpha={a}: {g:.3f}" for a, g in law_gap_end.items()))
-io.write_json(args.out / "summary.json", {
+study.write({
     "parameters": {"alphas": ALPHAS, "Jm": JM, "v_max": V_MAX, "v_start": V_START, "cells": CELLS,
                    "degree": DEGREE, "continuation": asdict(CONTINUATION)},
     "limit_points": {f"{name}, alpha={alpha}": [{**lp.values, "kind": lp.kind} for lp in b.limit_points]
@@ -181,8 +182,8 @@ io.write_json(args.out / "summary.json", {
                "max_law_gap_small_V": {str(a): g for a, g in law_gap_small.items()},
                "law_gap_within_small_strain_bound": {str(a): b for a, b in law_gap_bound.items()},
                "law_gap_at_v_max": {str(a): g for a, g in law_gap_end.items()}},
-    "ranks": comm.size, "wall_time_s": wall,
-}, comm)
+    "continuation_s": wall,
+})
 
 # %% [markdown]
 # ## Plot (rank 0)

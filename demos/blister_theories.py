@@ -57,7 +57,7 @@ from scipy.interpolate import CubicSpline
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import ContinuationParams, io
 from bcfem.run import demo
-from bcfem.run.trace import branch_of
+from bcfem.run.study import Study
 from bcfem.scenes import blister_rigid
 from bcfem.theory import membrane
 
@@ -82,6 +82,7 @@ JM_TOL = 1e-3  # relative tolerance of that check (next order: (I1-3)/Jm ~ 2e-4 
 comm = MPI.COMM_WORLD
 args, report = demo.setup("blister_theories", "Dissertation Figure 3.2: membrane theories of a clamped blister", comm,
                           refine=f"{2 * CELLS} P{DEGREE} cells across R0 instead of {CELLS}")
+study = Study("blister_theories", comm, args.out)  # every solve counted; summary.json in the runner's schema
 CELLS *= 2 if args.refine else 1
 
 
@@ -99,7 +100,7 @@ for label, material in MATERIALS.items():
     params = blister_rigid.Params(**material, alpha=0.0, v_max=V_MAX, v_start=V_START,
                                   cells=CELLS, degree=DEGREE, continuation=CONTINUATION)
     scene = blister_rigid.build(params, comm)
-    branch = branch_of(scene)
+    branch = study.branch(scene)
     branches[label] = branch
     report(f"{label}: {len(branch.rows)} points, limit points "
            + ", ".join(f"{lp.kind} P={lp.values['P']:.4f} at V/V0={lp.values['V_over_V0']:.4f}"
@@ -181,14 +182,14 @@ jm_ratio = (p100 - pnh) / (p200 - pnh)
 report(f"P/P_Foppl at V/V0={V_START}: "
        + ", ".join(f"{k}: {c['P_over_P_foppl_at_start']:.6f}" for k, c in checks.items()))
 report(f"(P_100 - P_NH)/(P_200 - P_NH) at V/V0={JM_CHECK_V}: {jm_ratio:.6f} (expected 2)")
-io.write_json(args.out / "summary.json", {
+study.write({
     "parameters": {"v_max": V_MAX, "v_start": V_START, "cells": CELLS, "degree": DEGREE,
                    "continuation": asdict(CONTINUATION)},
     "limit_points": {k: [{**lp.values, "kind": lp.kind} for lp in b.limit_points]
                      for k, b in branches.items()},
     "checks": {**checks, "gent_correction_ratio_100_200": jm_ratio},
-    "ranks": comm.size, "wall_time_s": wall,
-}, comm)
+    "continuation_s": wall,
+})
 
 # %% [markdown]
 # ## Plot (rank 0)

@@ -73,6 +73,7 @@ import numpy as np
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import io
 from bcfem.run import demo, sweep
+from bcfem.run.study import Study
 from bcfem.scenes import crater
 from bcfem.scenes.crater import frames as crater_frames
 from bcfem.theory.crater import eshelby_air as eshelby
@@ -101,6 +102,7 @@ args, report = demo.setup("crater_air", "Dissertation Figures 7.5b, 7.6, 7.7a: t
                           full="the preloads eps = 0.025:0.5:0.025 (20 cycles) instead of "
                                + ", ".join(f"{e:g}" for e in GRID["default"]),
                           refine="half the crater's element size (size_crater)")
+study = Study("crater_air", comm, args.out)  # every solve counted; summary.json in the runner's schema
 full = args.full
 if args.refine:
     BASE = replace(BASE, size_crater=BASE.size_crater / 2)
@@ -111,13 +113,13 @@ SHAPE_PRELOAD = SHAPE_PRELOADS["full" if full else "default"]
 # %% [markdown]
 # ## The sweep over the preload
 #
-# One point is one full cycle (`crater.solve`). Besides the end values of the
+# One point is one full cycle (the scene `crater.build` makes, solved by the study). Besides the end values of the
 # cycle it keeps the events (instabilities, snaps) and the loading steps'
 # strains and volumes, which bracket the closure strain.
 
 # %%
 def cycle(params: crater.Params, comm) -> dict:
-    rows, summary = crater.solve(params, comm)
+    rows, summary = study.solve(crater.build(params, comm), comm)
     load = [r for r in rows if r["stage"] == "load"]
     return {**{k: summary[k] for k in ("F_tilde", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
                                        "eps_at_zero_force", "eps_closure", "fluid_law_residual", "wall_time_s")},
@@ -235,7 +237,7 @@ def plain(row):
 by_preload = sorted(points, key=lambda r: r["preload"])
 table = [plain(r) for r in by_preload]
 io.write_csv(args.out / "crater_air.csv", table, comm, columns=COLUMNS)
-io.write_json(args.out / "summary.json", {
+study.write({
     "grid": "full" if full else "default",
     "parameters": asdict(BASE),
     "table": [{**t, "events": r.get("events", [])} for t, r in zip(table, by_preload)],
@@ -253,9 +255,8 @@ io.write_json(args.out / "summary.json", {
     "shape_cycle": None if shape is None else {
         "preload": SHAPE_PRELOAD, "F_tilde": shape_summary["F_tilde"], "instabilities": shape_summary["instabilities"],
         "states": [{k: v for k, v in s.items() if k not in ("u1", "wall")} for s in shape.states]},
-    "ranks": comm.size,
-    "wall_time_s": {"sweep": t_sweep, "shape_cycle": t_shape},
-}, comm)
+    "parts_s": {"sweep": t_sweep, "shape_cycle": t_shape},
+})
 
 # %% [markdown]
 # ## Plots (rank 0)

@@ -57,6 +57,7 @@ import numpy as np
 import bcfem  # noqa: F401  (before dolfinx / petsc4py)
 from bcfem import io
 from bcfem.run import demo, sweep
+from bcfem.run.study import Study
 from bcfem.scenes import crater
 from bcfem.scenes.crater import frames as crater_frames
 
@@ -116,6 +117,7 @@ comm = MPI.COMM_WORLD
 args, report = demo.setup("crater_design", "Dissertation Figures 7.9-7.12, 8.4, 8.6b, 8.7: the crater design space",
                           comm, full="the published maps (about 200 cycles) instead of a few points of each",
                           refine="half the crater's element size (size_crater) in every map and shape")
+study = Study("crater_design", comm, args.out)  # every solve counted; summary.json in the runner's schema
 full = args.full
 if args.refine:
     MAPS = {name: (replace(base, size_crater=base.size_crater / 2), axes) for name, (base, axes) in MAPS.items()}
@@ -142,6 +144,11 @@ def command(name: str) -> str:
 # point of one map, and records a failed point with its reason.
 
 # %%
+def point(params: crater.Params, comm) -> dict:
+    """A map's point (``crater.sweep_point``), its solves counted by the study."""
+    return crater.point_of(params, study.solve(crater.build(params, comm), comm)[1])
+
+
 results, timing, sweeps = {}, {}, []
 for name, (base, axes) in MAPS.items():
     if not full:
@@ -149,7 +156,7 @@ for name, (base, axes) in MAPS.items():
             continue
         axes = QUICK[name]
     points = sweep.grid_points(base, [(k, np.array(v)) for k, v in axes.items()])
-    sweeps.append((name, axes, (points, crater.sweep_point, args.out / "sweeps" / name)))
+    sweeps.append((name, axes, (points, point, args.out / "sweeps" / name)))
 t0 = time.perf_counter()
 pooled = sweep.run_pool([job for _, _, job in sweeps], comm)
 timing["maps"] = {"wall_time_s": time.perf_counter() - t0, "ranks": comm.size}
@@ -211,7 +218,8 @@ cycles = [("7_10", (alpha, beta), replace(AIR, alpha=alpha, beta=beta))
 cycles += [("7_12", tag, replace(AIR, alpha=1.0, beta=1.0, layer_thickness=thickness, layer_stiffness=stiffness))
            for tag, (thickness, stiffness) in (TYPES_7_12 if full else QUICK_SHAPES["7_12"]).items()]
 t0 = time.perf_counter()
-recorded = sweep.run([({}, params) for _, _, params in cycles], crater_frames.record_point,
+recorded = sweep.run([({}, params) for _, _, params in cycles],
+                     lambda params, comm: crater_frames.record_point(params, comm, study),
                      args.out / "sweeps" / "shapes", comm)
 for (figure, key, _), row in zip(cycles, recorded):
     if row["status"] != "ok":  # a failure is reported and listed, not fatal
@@ -294,7 +302,7 @@ def shape_summary(summary):
         "events": [{k: e[k] for k in ("stage", "eps", "kind", "unstable")} for e in summary["instabilities"]]}
 
 
-io.write_json(args.out / "summary.json", {
+study.write({
     "grid": "full" if full else "quick",
     "commands": {name: command(name) for name in MAPS},
     "timing": timing,
@@ -305,8 +313,7 @@ io.write_json(args.out / "summary.json", {
     "shapes_7_10": [{"alpha": a, "beta": b, **shape_summary(s)} for (a, b), (s, _) in shapes_7_10.items()],
     "types_7_12": {tag: {"layer_thickness": TYPES_7_12[tag][0], "layer_stiffness": TYPES_7_12[tag][1],
                          **shape_summary(s)} for tag, (s, _) in types_7_12.items()},
-    "ranks": comm.size,
-}, comm)
+})
 
 # %% [markdown]
 # ## Plots (rank 0)

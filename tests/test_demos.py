@@ -11,12 +11,14 @@ contract is checked in the fast tier.
 """
 
 import ast
+import json
 import os
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from test_summary_schema import SCHEMA
 
 pytestmark = pytest.mark.serial
 
@@ -24,7 +26,7 @@ BIN = Path(sys.executable).parent
 DEMOS = sorted(p for p in (Path(__file__).resolve().parents[1] / "demos").glob("*.py") if not p.name.startswith("_"))
 # files each demo must write into --out (any other demo must write a PNG and a CSV)
 EXPECTED = {
-    "blister_3d.py": ["pv.png", "membrane_circle.png", "curves.csv", "numbers.json"],
+    "blister_3d.py": ["pv.png", "membrane_circle.png", "curves.csv", "summary.json"],
     "blister_theories.py": ["theories.png", "curves.csv", "summary.json"],
     "blister_surface_tension.py": ["surface_tension.png", "curves.csv", "summary.json"],
     "blister_sliding.py": ["sliding_fig3_7.png", "sliding_fig3_8.png", "sliding_fig3_10.png", "curves.csv",
@@ -56,6 +58,10 @@ def check_outputs(demo: Path, out: Path, res: subprocess.CompletedProcess) -> No
     assert any(f.endswith(".png") for f in files), f"{demo.name} wrote no PNG"
     assert any(f.endswith(".csv") for f in files), f"{demo.name} wrote no CSV"
     assert not [f for f in files if ".tmp" in f], f"{demo.name} left temporary files: {sorted(files)}"
+    # the runner's summary schema (bcfem.run.study): status, counts, options, timings, versions
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "ok" and SCHEMA - {"columns"} <= set(summary), SCHEMA - set(summary)
+    assert summary["newton_solves"] > 0 and summary["ranks"] >= 1
 
 
 def test_demos_found():
@@ -76,6 +82,11 @@ def test_every_demo_takes_the_common_flags():
         assert any(c.func.attr == "setup" and getattr(c.func.value, "id", "") == "demo" for c in calls), path.name
         imported = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
         assert "argparse" not in imported, f"{path.name} parses flags of its own"
+        # its solves go through a study, which writes summary.json in the runner's schema
+        named = {getattr(c.func, "id", None) for c in ast.walk(tree) if isinstance(c, ast.Call)}
+        assert "Study" in named and any(c.func.attr == "write" and getattr(c.func.value, "id", "") == "study"
+                                        for c in calls), f"{path.name} writes its summary without its study"
+        assert "branch_of" not in path.read_text(), f"{path.name} traces outside its study"
 
 
 def test_every_figure_module_draws_one_results_object():

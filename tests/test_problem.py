@@ -350,7 +350,7 @@ def test_a_singular_tangent_is_reported(held):
     counts it, the log says so and the run's summary reports it; held at one end, the
     tangent is regular."""
     from bcfem.run.runner import solve
-    from bcfem.run.scene import Scene
+    from bcfem.run.stages import Scene
 
     msh = mesh.create_unit_interval(MPI.COMM_WORLD, 8)
     V = fem.functionspace(msh, ("Lagrange", 2))

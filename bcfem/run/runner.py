@@ -31,7 +31,7 @@ from bcfem.log import logger
 from bcfem.path.continuation import ContinuationError
 from bcfem.path.stepping import SteppingError
 from bcfem.run import outdir
-from bcfem.run.scene import Scene
+from bcfem.run.stages import Scene
 from bcfem.solver.problem import TIMED, Problem
 
 #: what a scene raises when its path cannot go on (the converged part is kept)
@@ -175,6 +175,20 @@ class Run:
         self.results.clear()
         self.stages.clear()
 
+    def absorb(self, other: Run, label: str) -> None:
+        """Count ``other``'s finished problems as this run's (a study of many runs): its Newton
+        counts, timings, options and rows; its stages under ``label``."""
+        self.newton_solves += other.newton_solves
+        self.newton_iterations += other.newton_iterations
+        self.failed_solves += other.failed_solves
+        self.null_pivots = max(self.null_pivots, other.null_pivots)
+        self.dofs = max(self.dofs, other.dofs)
+        for key, seconds in other.timings.items():
+            self.timings[key] = self.timings.get(key, 0.0) + seconds
+        self.petsc_options.update(other.petsc_options)
+        self.rows.extend(other.rows)
+        self.stages.extend({**stage, "stage": f"{label}: {stage['stage']}"} for stage in other.stages)
+
     def close(self) -> None:
         for problem in list(self._problems):
             self.release(problem)
@@ -210,35 +224,48 @@ def solve(scene: Scene, comm, fields_path: Path | None = None,
         raised = interrupt.Interrupted(signum)
     elif raised is not None:
         status, error = "failed", f"internal error: {type(raised).__name__}: {raised}"
-    params = scene.params
-    run.summary = {
-        "scene": scene.name,
-        "status": status,
-        "error": error,
-        **({"traceback": "".join(traceback.format_exception(raised))} if status == "failed" and raised else {}),
-        "parameters": _parameters(params),
-        **run.results,
-        "stages": run.stages,
-        "columns": columns.record(scene.columns),
-        "steps": len(run.rows),
-        "newton_solves": run.newton_solves,
-        "newton_iterations": run.newton_iterations,
-        "failed_solves": run.failed_solves,
-        "null_pivots": run.null_pivots,
-        "dofs": run.dofs,
-        "ranks": comm.size,
-        "wall_time_s": (wall := time.perf_counter() - t0),
-        "time_split_s": time_split(run.timings, wall, (compiled := jit.tally() - jit0).seconds),
-        "jit": compiled.over(comm),
-        "versions": versions(),
-        "petsc_options": run.petsc_options,
-    }
+    run.summary = summary_of(run, scene.name, _parameters(scene.params), status, error, (t0, jit0),
+                             trace_text="".join(traceback.format_exception(raised))
+                             if status == "failed" and raised else None)
     if isinstance(raised, interrupt.Interrupted):
         raised.run = run
         raise raised
     if error:
         raise SolveError(error, run) from raised
     return run, run.summary
+
+
+def summary_of(run: Run, name: str, parameters: dict, status: str, error: str | None,
+               started: tuple[float, jit.Tally], trace_text: str | None = None) -> dict:
+    """The ``summary.json`` of ``run`` (one schema for every scene and study): its status, the
+    parameters, what it found (``run.results``), its stages and columns, the counts of its
+    problems, the wall time from ``started`` (a clock and the JIT's tally) and its split, the
+    versions and the effective PETSc options (collective: the JIT's counts are summed)."""
+    t0, jit0 = started
+    wall = time.perf_counter() - t0
+    compiled = jit.tally() - jit0
+    return {
+        "scene": name,
+        "status": status,
+        "error": error,
+        **({"traceback": trace_text} if trace_text else {}),
+        "parameters": parameters,
+        **run.results,
+        "stages": run.stages,
+        "columns": columns.record(run.scene.columns),
+        "steps": len(run.rows),
+        "newton_solves": run.newton_solves,
+        "newton_iterations": run.newton_iterations,
+        "failed_solves": run.failed_solves,
+        "null_pivots": run.null_pivots,
+        "dofs": run.dofs,
+        "ranks": run.comm.size,
+        "wall_time_s": wall,
+        "time_split_s": time_split(run.timings, wall, compiled.seconds),
+        "jit": compiled.over(run.comm),
+        "versions": versions(),
+        "petsc_options": run.petsc_options,
+    }
 
 
 def solve_rows(scene: Scene, comm) -> tuple[list[dict], dict]:

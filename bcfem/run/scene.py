@@ -1,12 +1,7 @@
-"""What a scene is: the type the runner takes (:class:`Scene`), and the arc-length scene
-(:class:`BranchScene`): a geometry and states (the context), energy terms, boundary
-conditions, a load path and its observables. Nothing here knows which physics a scene holds.
-
-Every scene has a ``name``, declared ``stages`` (its PETSc prefixes are
-``bcfem_<name>_<stage>_``), ``params``, ``columns``, ``solve(run)``, ``figures(rows,
-summary)`` and ``tables(rows, summary)`` (:mod:`bcfem.run.runner` drives it). A
-:class:`BranchScene` has the one stage ``branch``; a staged scene declares its own, as data
-(:class:`bcfem.run.stages.StagedScene`) or in its ``solve``.
+"""The arc-length scene (:class:`BranchScene`): a geometry and states (the context), energy
+terms, boundary conditions, a load path and its observables, solved as a staged scene of the
+one stage ``branch`` (:class:`bcfem.run.stages.StagedScene`), an arc-length stage. Nothing
+here knows which physics a scene holds.
 """
 
 from __future__ import annotations
@@ -17,44 +12,15 @@ from typing import Any
 
 from bcfem.columns import Column
 from bcfem.params import ContinuationParams
-from bcfem.path.terminations import Termination
+from bcfem.path.terminations import Described, Termination
 from bcfem.physics.context import Context
-
-
-class Scene:
-    """What the runner solves: a scene's contract, with no figures and no extra tables by
-    default.
-
-    Attributes:
-        name: the registry name (the PETSc prefixes ``bcfem_<name>_<stage>_``).
-        stages: the names of the stages it declares.
-        params: its parameters (a dataclass, recorded in ``summary.json``), or None.
-        columns: the columns of ``branch.csv`` with their units (:func:`bcfem.columns.declare`;
-            None: every key of the rows).
-    """
-
-    name: str
-    stages: tuple[str, ...]
-    params: Any = None
-    columns: Sequence[Column] | None = None
-
-    def solve(self, run) -> None:
-        """Solve into ``run`` (:class:`bcfem.run.runner.Run`): its rows, results and stages'
-        problems. Raises on a path that cannot go on, with the converged part in ``run``."""
-        raise NotImplementedError
-
-    def figures(self, rows, summary) -> dict:
-        """PNG file name -> matplotlib figure, drawn after the solve (rank 0)."""
-        return {}
-
-    def tables(self, rows, summary) -> dict[str, list[dict]]:
-        """CSV file name -> rows, besides ``branch.csv``."""
-        return {}
+from bcfem.run.stages import Ended, Stage, StagedScene
 
 
 @dataclass
-class BranchScene(Scene):
-    """A composed model traced by arc-length, ready to solve.
+class BranchScene(StagedScene):
+    """A composed model traced by arc-length, ready to solve: a staged scene whose one stage,
+    ``branch``, follows the branch from its start to ``end``.
 
     Attributes:
         name: the registry name (also the PETSc prefix ``bcfem_<name>_``).
@@ -145,19 +111,35 @@ class BranchScene(Scene):
         arc.restart_row(problem)
         return back, forward
 
-    def solve(self, run) -> None:
+    # -- the one stage -----------------------------------------------------------------------
+    def context(self) -> tuple[Context, list]:
+        return self.ctx, self.bcs
+
+    def setup(self, run) -> None:
+        run.watch(self.fields)
+        self._arc = self.arc_length()
+
+    @property
+    def problem_options(self) -> dict:
+        return dict(petsc_options=self.petsc_options, rows={**self.rows, **self._arc.rows()},
+                    energy_scale=self.energy_scale)
+
+    def plan(self) -> list[Stage]:
+        until = self.end if isinstance(self.end, Termination) else Described(describe(self.end))
+        return [Stage("branch", terms=lambda: self.terms, drive=self._trace, until=until)]
+
+    def _trace(self, problem, run) -> Ended:
         """Trace the branch into ``run``: its rows, limit points, events and counts."""
         from bcfem.path.continuation import ContinuationError
         from bcfem.run.trace import trace
 
-        run.watch(self.fields)
         try:
-            branch, problem = trace(self, run.on_accept, run)
+            branch, _ = trace(self, run.on_accept, run, arc=self._arc, problem=problem)
         except ContinuationError as err:
             self._report(run, err.branch)
             raise
         self._report(run, branch)
-        self.ended(run, branch)
+        return Ended(f"the end condition holds at point {len(branch.rows)}")
 
     def ended(self, run, branch) -> None:
         """Record the branch's stage as ended by its end condition (the summary's ``stages``)."""

@@ -15,16 +15,46 @@ The summary's ``stages`` lists each problem's stage, its end condition and why i
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from bcfem.columns import Column
 from bcfem.path.terminations import Termination
-from bcfem.run.scene import Scene
 
 if TYPE_CHECKING:
-    from bcfem.run.runner import Run
     from bcfem.solver.problem import Problem
+
+
+class Scene:
+    """What the runner solves: a scene's contract, with no figures and no extra tables by
+    default.
+
+    Attributes:
+        name: the registry name (the PETSc prefixes ``bcfem_<name>_<stage>_``).
+        stages: the names of the stages it declares.
+        params: its parameters (a dataclass, recorded in ``summary.json``), or None.
+        columns: the columns of ``branch.csv`` with their units (:func:`bcfem.columns.declare`;
+            None: every key of the rows).
+    """
+
+    name: str
+    stages: tuple[str, ...]
+    params: Any = None
+    columns: Sequence[Column] | None = None
+
+    def solve(self, run) -> None:
+        """Solve into ``run`` (:class:`bcfem.run.runner.Run`): its rows, results and stages'
+        problems. Raises on a path that cannot go on, with the converged part in ``run``."""
+        raise NotImplementedError
+
+    def figures(self, rows, summary) -> dict:
+        """PNG file name -> matplotlib figure, drawn after the solve (rank 0)."""
+        return {}
+
+    def tables(self, rows, summary) -> dict[str, list[dict]]:
+        """CSV file name -> rows, besides ``branch.csv``."""
+        return {}
 
 
 @dataclass(frozen=True)
@@ -45,7 +75,8 @@ class Ended:
 
 @dataclass(frozen=True)
 class Stage:
-    """One stage of a scene.
+    """One stage of a scene (``run``: the :class:`bcfem.run.runner.Run` it records into; not
+    imported here, which the runner imports).
 
     Attributes:
         name: the stage's name (its PETSc prefix ``bcfem_<scene>_<name>_``).
@@ -61,9 +92,9 @@ class Stage:
 
     name: str
     terms: Callable[[], list]
-    drive: Callable[[Problem, Run], Ended]
+    drive: Callable[[Problem, Any], Ended]
     until: Termination
-    enter: Callable[[Run], str | None] | None = None
+    enter: Callable[[Any], str | None] | None = None
     prepare: Callable[[Problem], None] | None = None
     petsc_options: dict = field(default_factory=dict)
 
@@ -83,7 +114,7 @@ class StagedScene(Scene):
         """Keyword arguments of every stage's :class:`~bcfem.solver.problem.Problem`."""
         return {}
 
-    def setup(self, run: Run) -> None:
+    def setup(self, run) -> None:
         """Build the model (mesh, states) and record what the run reports before any stage."""
         raise NotImplementedError
 
@@ -91,10 +122,14 @@ class StagedScene(Scene):
         """The stages, in order (called once the model is built)."""
         raise NotImplementedError
 
-    def finish(self, run: Run) -> None:
+    def finish(self, run) -> None:
         """Summary entries once every stage has ended."""
 
-    def solve(self, run: Run) -> None:
+    def context(self) -> tuple[Any, list]:
+        """The context and the Dirichlet conditions every stage's problem is built on."""
+        return self.model.ctx, self.model.bcs
+
+    def solve(self, run) -> None:
         self.setup(run)
         stages = self.plan()
         undeclared = [s.name for s in stages if s.name not in self.stages]
@@ -110,7 +145,8 @@ class StagedScene(Scene):
                 options = {**self.problem_options}
                 petsc = {**options.pop("petsc_options", {}), **stage.petsc_options}
                 terms = [*stage.terms(), *(t for t in self.extra_terms if t.belongs_to(stage.name))]
-                with run.stage(stage.name, self.model.ctx, terms, self.model.bcs, petsc, **options) as problem:
+                ctx, bcs = self.context()
+                with run.stage(stage.name, ctx, terms, bcs, petsc, **options) as problem:
                     if stage.prepare is not None:
                         stage.prepare(problem)
                     ended = stage.drive(problem, run)

@@ -232,7 +232,8 @@ def scene_for(model: Model, params: Params) -> BranchScene:
 
     return BranchScene(name="blister-rigid", ctx=ctx, terms=model.terms, bcs=model.edge.bcs, load="pressure",
                  start=start, observe=model.observe,
-                 end=AnyOf((Reaches("V_over_V0", params.v_max), Reaches("R1_over_R0", params.stop_radius))),
+                 end=AnyOf((Reaches("V_over_V0", params.v_max), Reaches("R1_over_R0", params.stop_radius)))
+                 if math.isfinite(params.stop_radius) else Reaches("V_over_V0", params.v_max),
                  begin=(lambda values: params.v_start - values["V_over_V0"])
                  if params.start_at > params.v_start else None,
                  grows="V_over_V0",

@@ -57,6 +57,11 @@ def solve(params: Params, comm, model_class=None, *, extra_terms=()) -> tuple[li
 def sweep_point(params: Params, comm) -> dict:
     """One point of ``bcfem sweep crater``: the cycle's end values."""
     _, summary = solve(params, comm)
+    return point_of(params, summary)
+
+
+def point_of(params: Params, summary: dict) -> dict:
+    """A solved cycle's point of a map (``summary``: the cycle's)."""
     point = {k: summary[k] for k in ("F_tilde", "F_hat", "V1_over_V0", "V2_over_V0", "p2_over_pa", "A2_over_A0",
                                      "eps_at_zero_force", "preload", "eps_m", "stability", "final_unstable_modes")}
     point["stability_code"] = STABILITY.index(summary["stability"])  # a number for contour maps
@@ -79,4 +84,4 @@ SWEEP = {"solve": sweep_point,
          "title": "suction cycle"}
 
 __all__ = ["CLOSURE_CRITERIA", "COLUMNS", "DESCRIPTION", "MAX_CLOSURE_PRELOAD", "PRELOAD_TO_CLOSURE",
-           "STABILITY", "SUMMARY", "SWEEP", "ClosureCriteria", "Params", "build", "solve", "sweep_point"]
+           "STABILITY", "SUMMARY", "SWEEP", "ClosureCriteria", "Params", "build", "point_of", "solve", "sweep_point"]

@@ -16,6 +16,8 @@ from mpi4py import MPI
 import numpy as np
 
 from bcfem.geometry.crater import LAYER
+from bcfem.run.runner import solve_rows
+from bcfem.run.study import Study
 from bcfem.scenes import crater
 from bcfem.scenes.crater.model import Crater
 
@@ -84,23 +86,25 @@ class Frames:
                    [{k: np.array(v) if k in arrays else v for k, v in s.items()} for s in data["states"]])
 
 
-def record(params: crater.Params) -> tuple[dict, Frames]:
-    """One cycle on this rank alone; returns (summary, its frames)."""
+def record(params: crater.Params, study: Study | None = None) -> tuple[dict, Frames]:
+    """One cycle on this rank alone (counted by ``study``, if given); returns (summary, its
+    frames)."""
     made = []
 
     def model(p, comm):
         made.append(Recorder(p, comm))
         return made[-1]
 
-    _, summary = crater.solve(params, MPI.COMM_SELF, model_class=model)
+    scene = crater.build(params, MPI.COMM_SELF, model_class=model)
+    _, summary = study.solve(scene, MPI.COMM_SELF) if study else solve_rows(scene, MPI.COMM_SELF)
     rec = made[-1]  # a retraced cycle's second model
     return summary, Frames(rec.vertices, rec.triangles, rec.in_layer, rec.wall_X, rec.states)
 
 
-def record_point(params: crater.Params, comm) -> dict:
+def record_point(params: crater.Params, comm, study: Study | None = None) -> dict:
     """One recorded cycle as a point of :func:`bcfem.run.sweep.run` (``comm``: the point's own
-    one-rank communicator): its summary and its frames."""
-    summary, frames = record(params)
+    one-rank communicator; counted by ``study``, if given): its summary and its frames."""
+    summary, frames = record(params, study)
     return {"summary": summary, "frames": frames.to_json()}
 
 

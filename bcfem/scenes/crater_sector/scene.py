@@ -5,7 +5,7 @@ bifurcated one), as rows of ``branch.csv`` and entries of ``summary.json``."""
 from __future__ import annotations
 
 from bcfem.path.terminations import Reaches
-from bcfem.run.scene import Scene
+from bcfem.run.stages import Scene
 from bcfem.scenes.crater_sector import paths
 from bcfem.scenes.crater_sector.params import Params, columns
 
