@@ -183,7 +183,7 @@ def build_parser():
         p.add_argument("--quiet", action="store_true")
         p.add_argument("--retry-failed", action="store_true",
                        help="solve again the points a previous run recorded as failed (else they are kept)")
-        if not hasattr(studies, "fit"):
+        if not studies.FIT_TARGETS:  # no inverse problem for this scene
             continue
         p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,
                             formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -36,8 +36,8 @@ def _main(argv: list[str] | None) -> int:
     from bcfem.scenes import REGISTRY
 
     module = REGISTRY[args.scene]
-    values = {f.name: getattr(args, f.name) for f in dataclasses.fields(module.Params)
-              if hasattr(args, f.name)}
+    given = vars(args)  # the flags this command takes (a nested dataclass has none)
+    values = {f.name: given[f.name] for f in dataclasses.fields(module.Params) if f.name in given}
     # sweep axes given as --name start:stop:step; the Params hold the default there
     args.ranges = {k: str(v) for k, v in values.items() if isinstance(v, AxisSpec)}
     values = {k: v for k, v in values.items() if k not in args.ranges}

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
@@ -233,8 +234,15 @@ def check_resolved(value, element: float, flag: str, where: str) -> None:
                          f"({2 * element:g} R0)")
 
 
+@runtime_checkable
+class Valued(Protocol):
+    """A parameter that is not a number but names some (a profile, blister-3d's stripes and maps)."""
+
+    @property
+    def values(self) -> tuple: ...
+
+
 def checked_values(value) -> tuple:
-    """The numbers a bound must admit: the value, or the values a profile (or another pattern
-    with a tuple ``values``, such as blister-3d's stripes) names."""
-    values = getattr(value, "values", None)
-    return values if isinstance(values, tuple) else (value,)
+    """The numbers a bound must admit: the value, or the values a profile (or another
+    :class:`Valued` pattern) names."""
+    return value.values if isinstance(value, Valued) else (value,)

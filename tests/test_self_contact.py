@@ -211,6 +211,7 @@ def boundary(points, depth=0.25):
     x = np.asarray(points, dtype=float)
     term.segments = np.column_stack([np.arange(len(x) - 1), np.arange(1, len(x))])
     term.depth = depth
+    term._last_search = None
     term._positions = lambda: x
     return term
 

@@ -89,6 +89,8 @@ class WallSelfContact(DiscreteTerm):
         self.facet_tags, self.boundary = facet_tags, boundary
         self.modulus, self.penalty, self.depth = modulus, penalty, depth
         self.active = 0  # pairs in contact at the last evaluation
+        #: (positions, facing, pairs) of the last search, reused while neither changes
+        self._last_search: tuple | None = None
         self.facing: np.ndarray | None = None  # (owned nodes, segments): who faces whom, frozen per solve
 
     # -- set-up ---------------------------------------------------------------------------
@@ -251,7 +253,7 @@ class WallSelfContact(DiscreteTerm):
         their gap to the segment's line in both directions (frictionless: the node slides
         along it), so that the contact cannot open (non-separable contact)."""
         self.bonded = (np.asarray(nodes, dtype=np.int64), np.asarray(segments, dtype=np.int64))
-        self._last_search: tuple | None = None
+        self._last_search = None
 
     def contacts(self):
         """:meth:`pairs` at the current positions (collective: the positions are gathered)."""
@@ -267,7 +269,7 @@ class WallSelfContact(DiscreteTerm):
         assembles the tangent at the state of the last residual, so the last search is
         kept and reused while the positions and who faces whom are the same.
         """
-        last = getattr(self, "_last_search", None)
+        last = self._last_search
         if last is not None and last[1] is self.facing and np.array_equal(last[0], x):
             return last[2]
         found = self._with_bonds(x, *self._search(x))

@@ -66,7 +66,7 @@ class MembraneSurface(Meridian):
         self.tag = tag
         # the material radius and dR/dxi of the solid's reference map (the membrane bonded to
         # the substrate shares the substrate's material points)
-        mapped = getattr(solid, "X", None) is not None and solid.X is not solid.x
+        mapped = solid.X is not solid.x
         self.R = solid.X[0] if mapped else X[0]
         J = solid.X[0].dx(0) if mapped else 1
         self.r = X[0] + disp[0]

@@ -88,9 +88,9 @@ class ArcLength:
         if not load_scale > 0:
             raise ValueError(f"load_scale must be > 0 (got {load_scale})")
         norm = {"displacement": 1.0} if norm is None else dict(norm)
-        mean = mean if mean is not None else getattr(ctx.kin, "mean", None)
-        if mean is None:
-            raise ValueError(f"ctx.kin ({type(ctx.kin).__name__}) has no mean(density): pass mean=")
+        if mean is None and ctx.kin is None:
+            raise ValueError("ctx has no kinematics, so no mean(density): pass mean=")
+        mean = mean if mean is not None else ctx.kin.mean
         if not norm or parameter in norm:
             raise ValueError(f"norm must name at least one state other than {parameter!r} (got {sorted(norm)})")
         unknown = sorted(set(norm) - set(ctx.states))

@@ -4,7 +4,7 @@ term scaled by a run-time constant (:class:`Scaled`). Neither writes an energy o
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING
 
 import ufl
 
@@ -12,17 +12,6 @@ from bcfem.physics.protocols import Term
 
 if TYPE_CHECKING:
     from bcfem.physics.context import Context
-
-
-class SurfaceContext:
-    """``ctx`` seen through another kinematics: every member is the context's, except ``kin``."""
-
-    def __init__(self, ctx, kin):
-        self._ctx = ctx
-        self.kin = kin
-
-    def __getattr__(self, name):
-        return getattr(self._ctx, name)
 
 
 @dataclass(frozen=True)
@@ -55,7 +44,7 @@ class OnSurface(Term):
         return tuple(self.term.multipliers)
 
     def energy(self, ctx: Context) -> ufl.Form:
-        return self.term.energy(cast("Context", SurfaceContext(ctx, self.surface)))
+        return self.term.energy(ctx.with_kinematics(self.surface))
 
 
 @dataclass(frozen=True)

@@ -56,7 +56,8 @@ class Context:
         self._owned: dict[int, tuple[Any, Any]] = {}
         self._named: dict[str, list[fem.Constant]] = {}
         self._entity_maps: list = []
-        self._body_measure: fem.Constant | None = None
+        #: the body's measure, shared with every view (:meth:`with_kinematics`)
+        self._measure: list[fem.Constant] = []
 
     @property
     def real_space(self) -> fem.FunctionSpace:
@@ -69,10 +70,18 @@ class Context:
     def body_measure(self) -> fem.Constant:
         """The body's measure ∫ 1 dx over :attr:`mesh`, a constant (collective; assembled on
         the first request, a property of the mesh like :attr:`real_space`)."""
-        if self._body_measure is None:
+        if not self._measure:
             measure = global_sum(fem.form(1.0 * ufl.dx(domain=self.mesh)))
-            self._body_measure = fem.Constant(self.mesh, dolfinx.default_scalar_type(measure))
-        return self._body_measure
+            self._measure.append(fem.Constant(self.mesh, dolfinx.default_scalar_type(measure)))
+        return self._measure[0]
+
+    def with_kinematics(self, kin) -> Context:
+        """This context seen through another kinematics (a membrane on a solid's surface): the
+        same states, constants and parameters, ``kin`` replaced."""
+        self.real_space  # one real space for both: created here, before the view copies it
+        view = copy.copy(self)  # shallow: the states' and constants' dicts are shared
+        view.kin = kin
+        return view
 
     def real_state(self, name: str) -> fem.Function:
         """The global scalar unknown ``name``, created on first request."""

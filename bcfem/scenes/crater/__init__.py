@@ -75,6 +75,8 @@ def point_of(params: Params, summary: dict) -> dict:
 
 
 #: What ``bcfem sweep crater`` computes and plots (one axis: a curve per column).
+#: ``bcfem fit`` has no inverse problem of this scene
+FIT_TARGETS: dict = {}
 SWEEP = {"solve": sweep_point,
          "maps": [("F_tilde", "F~"), ("F_hat", "F^ = F/(mu A0)"), ("V1_over_V0", "V1/V0"),
                   ("V2_over_V0", "V2/V0"), ("p2_over_pa", "p2/p_a"), ("A2_over_A0", "A2/A0"),
@@ -83,5 +85,5 @@ SWEEP = {"solve": sweep_point,
                   ("symmetry_code", "symmetry breaking (--waves): 0 none, 1 on unloading, 2 on loading too")],
          "title": "suction cycle"}
 
-__all__ = ["CLOSURE_CRITERIA", "COLUMNS", "DESCRIPTION", "MAX_CLOSURE_PRELOAD", "PRELOAD_TO_CLOSURE",
+__all__ = ["CLOSURE_CRITERIA", "COLUMNS", "DESCRIPTION", "FIT_TARGETS", "MAX_CLOSURE_PRELOAD", "PRELOAD_TO_CLOSURE",
            "STABILITY", "SUMMARY", "SWEEP", "ClosureCriteria", "Params", "build", "point_of", "solve", "sweep_point"]

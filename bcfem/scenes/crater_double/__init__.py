@@ -44,10 +44,12 @@ def sweep_point(params: Params, comm) -> dict:
 
 
 #: What ``bcfem sweep crater-double`` computes and plots (two axes: contour maps)
+#: ``bcfem fit`` has no inverse problem of this scene
+FIT_TARGETS: dict = {}
 SWEEP = {"solve": sweep_point,
          "maps": [("F_tilde", "F~ at eps = 0 after the cycle"), ("p_c1_over_pa", "p_c1/p_a"),
                   ("p_c2_over_pa", "p_c2/p_a"), ("eps_contact", "eps_a (empty: no split)"),
                   ("least_sidewall_gap", "least sidewall-protuberance gap / H")],
          "title": "double-chamber crater cycle"}
 
-__all__ = ["COLUMNS", "DESCRIPTION", "SUMMARY", "SWEEP", "Params", "build", "solve", "sweep_point"]
+__all__ = ["COLUMNS", "DESCRIPTION", "FIT_TARGETS", "SUMMARY", "SWEEP", "Params", "build", "solve", "sweep_point"]
