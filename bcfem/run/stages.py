@@ -88,6 +88,8 @@ class Stage:
             why the stage is skipped (e.g. a crater that stays closed), or None.
         prepare: what is set on the stage's problem before it is driven.
         petsc_options: the stage's PETSc defaults (the user's options still win).
+        options: the keyword arguments of the stage's problem, instead of the scene's
+            :attr:`StagedScene.problem_options` (a stage with rows or a scale of its own).
     """
 
     name: str
@@ -97,6 +99,7 @@ class Stage:
     enter: Callable[[Any], str | None] | None = None
     prepare: Callable[[Problem], None] | None = None
     petsc_options: dict = field(default_factory=dict)
+    options: Callable[[], dict] | None = None
 
 
 class StagedScene(Scene):
@@ -142,7 +145,7 @@ class StagedScene(Scene):
                 continue
             again = True
             while again:
-                options = {**self.problem_options}
+                options = {**(stage.options() if stage.options is not None else self.problem_options)}
                 petsc = {**options.pop("petsc_options", {}), **stage.petsc_options}
                 terms = [*stage.terms(), *(t for t in self.extra_terms if t.belongs_to(stage.name))]
                 ctx, bcs = self.context()

@@ -24,6 +24,7 @@ from bcfem.physics.energies import MembraneStrain, PressureVolume, SurfaceTensio
 from bcfem.physics.materials import slopes
 from bcfem.physics.observables import Integral, Measured, Observable, cavity_volume, row
 from bcfem.physics.protocols import total_energy
+from bcfem.run.stages import Ended
 from bcfem.scenes.blister_3d.growth import FrontGrowth, MeshMotion
 from bcfem.scenes.blister_3d.mirrored import create_mirrored_mesh
 from bcfem.scenes.blister_3d.params import ADHESIVE_COLUMNS, CLAMPED_COLUMNS, V0, Params
@@ -128,28 +129,25 @@ def build(params: Params, comm, extra_terms=()) -> MembraneScene:
     switches = [Switch(name, itemgetter(key), lambda: None) for name, key in events] if release else []
     fronts = []
 
-    def grow(run) -> None:
-        """After the onset, move the front to equilibrium at front_steps volumes up to v-max."""
-        onset = run.results.get("delamination_onset")
-        if not onset or not run.rows:
-            return
+    def grow(problem, run) -> Ended:
+        """The stage ``front``: after the onset, move the front to equilibrium at front_steps
+        volumes up to v-max."""
         assert release is not None, "a front grows on an adhesive edge"
         motion = MeshMotion(release, edge_facets, moved=wetting.refresh if isinstance(wetting, MappedWetting) else None)
-        start, s0 = onset["V_over_V0"], run.rows[-1]["s"]
+        start, s0 = run.results["delamination_onset"]["V_over_V0"], run.rows[-1]["s"]
         fronts.append((start, release.gather()[0]))
-        with run.stage("front", ctx, terms, bcs) as problem:
-            growth = FrontGrowth(ctx, problem, release, motion, params.size)
-            for k in range(1, params.front_steps + 1):
-                target = start + (params.v_max - start) * k / params.front_steps
-                growth.settle(target * V0)
-                row = {**observe(), "front_residual": growth.residual, "s": s0 + target - start}
-                run.record(row)
-                fronts.append((target, release.gather()[0]))
-                progress(f"front {k:3d}  moves={growth.moves}  " + "  ".join(
-                    f"{key}={row[key]:.6g}" for key in ("V_over_V0", "P", "R_front", "front_R_min", "front_R_max")))
-        run.results["front"] = {"moves": growth.moves, "stiffness": growth.stiffness, "wave": growth.wave,
-                                **{key: run.rows[-1][key] for key in ("V_over_V0", "P", "R_front", "front_R_min",
-                                                                      "front_R_max")}}
+        growth = FrontGrowth(ctx, problem, release, motion, params.size)
+        for k in range(1, params.front_steps + 1):
+            target = start + (params.v_max - start) * k / params.front_steps
+            growth.settle(target * V0)
+            row = {**observe(), "front_residual": growth.residual, "s": s0 + target - start}
+            run.record(row)
+            fronts.append((target, release.gather()[0]))
+            progress(f"front {k:3d}  moves={growth.moves}  " + "  ".join(
+                f"{key}={row[key]:.6g}" for key in ("V_over_V0", "P", "R_front", "front_R_min", "front_R_max")))
+        front = {"moves": growth.moves, "stiffness": growth.stiffness, "wave": growth.wave,
+                 **{key: run.rows[-1][key] for key in ("V_over_V0", "P", "R_front", "front_R_min", "front_R_max")}}
+        return Ended(f"the front grew to V/V0 = {run.rows[-1]['V_over_V0']:.6g}", {"front": front})
 
     def guard(values):
         if values["V_over_V0"] <= 0:

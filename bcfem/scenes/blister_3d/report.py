@@ -7,15 +7,18 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from bcfem.path.terminations import Described
 from bcfem.run.scene import BranchScene
+from bcfem.run.stages import Ended, Stage
 
 if TYPE_CHECKING:
     from bcfem.scenes.blister_3d.release import ReleaseRate
+    from bcfem.scenes.blister_3d.stability import VolumeStability
 
 
 def gather_surface(u, fields, comm):
@@ -105,7 +108,8 @@ class MembraneScene(BranchScene):
     each step of its growth (``front.png``)."""
 
     release: ReleaseRate | None = None
-    after: Callable[[Any], None] | None = None  # a stage after the branch (the front's growth), or None
+    #: the drive of the stage ``front`` (the front's growth after the onset), or None
+    after: Callable[[Any, Any], Ended] | None = None
     fronts: list = field(default_factory=list)  # (V/V0, the outline's points) at the onset and each growth step
 
     v0: float = 4.0 * math.pi / 3.0  # the volume of the normalisation V/V0
@@ -119,72 +123,98 @@ class MembraneScene(BranchScene):
         self._broken: list[dict] | None = None
         self._surface: tuple | None = None
         self._outline: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+        self.stability: VolumeStability | None = None
+
+    def plan(self) -> list[Stage]:
+        """``branch`` with its unstable modes counted (their problem: ``stability``), then
+        ``broken``, the branch off its first bifurcation (``--follow broken``), and ``front``,
+        the front's growth after the onset (an adhesive edge with front steps)."""
+        branch = replace(super().plan()[0], drive=self._trace_counted)
+        broken = Stage("broken", terms=lambda: self.terms, enter=self._broken_from, drive=self._follow,
+                       until=branch.until, options=lambda: dict(petsc_options=self.petsc_options,
+                                                                rows=self._broken_arc.rows(),
+                                                                energy_scale=self.energy_scale))
+        stages = [branch, broken]
+        if self.after is not None:
+            stages.append(Stage("front", terms=lambda: self.terms, enter=self._onset, drive=self.after,
+                                until=Described("the front in equilibrium at each of --front-steps volumes up to "
+                                                "--v-max"), options=dict))
+        return stages
 
     def solve(self, run) -> None:
         try:
-            self._trace_counted(run)
-            if self.after:
-                self.after(run)
+            super().solve(run)
         finally:  # the converged part is drawn too
             self._surface = gather_surface(self.fields[0], (self.fields[1], self.fields[3]), self.ctx.mesh.comm)
             self._outline = self.release.gather() if self.release else None
 
-    def _trace_counted(self, run) -> None:
-        """:meth:`BranchScene.solve`, with the unstable modes under volume control counted at
-        every accepted point and its bifurcations located
+    def _trace_counted(self, problem, run) -> Ended:
+        """The branch, with the unstable modes under volume control counted at every accepted
+        point and its bifurcations located
         (:class:`bcfem.scenes.blister_3d.stability.VolumeStability`)."""
         from bcfem.path.continuation import ContinuationError
         from bcfem.run.trace import trace
         from bcfem.scenes.blister_3d.stability import VolumeStability
 
-        run.watch(self.fields)
-        self.stability = VolumeStability(run.problem("stability", self.ctx, self.terms, self.bcs), self.ctx, self.v0)
+        stability = self.stability = VolumeStability(run.problem("stability", self.ctx, self.terms, self.bcs),
+                                                     self.ctx, self.v0)
 
         def on_accept(values):
-            self.stability.on_accept(values)
+            stability.on_accept(values)
             run.on_accept(values)
 
         try:
-            branch, _ = trace(self, on_accept, run)
+            branch, _ = trace(self, on_accept, run, arc=self._arc, problem=problem)
         except ContinuationError as err:
             self._report(run, err.branch)
             raise
         finally:
-            run.results.update(self.stability.summary())
+            run.results.update(stability.summary())
         self._report(run, branch)
-        self.ended(run, branch)
-        if self.follow and self.stability.modes:
-            self._follow(run)
+        return Ended(f"the end condition holds at point {len(branch.rows)}")
 
-    def _follow(self, run) -> None:
+    def _broken_from(self, run) -> str | None:
+        """Why the broken branch is not followed, or None (its arc-length made here)."""
+        if not self.follow:
+            return "not asked for (--follow broken follows it)"
+        if self.stability is None or not self.stability.modes:
+            return "no bifurcation located on the branch"
+        self._broken_arc = self.arc_length()
+        return None
+
+    def _onset(self, run) -> str | None:
+        """Why the front does not grow, or None."""
+        return None if run.results.get("delamination_onset") and run.rows else "no delamination onset on the branch"
+
+    def _follow(self, problem, run) -> Ended:
         """The branch off the first bifurcation, from the switch to the end (``broken.csv``;
         ``broken_branch`` in summary.json)."""
         from bcfem.path.continuation import ContinuationError
         from bcfem.scenes.blister_3d.stability import follow_broken
 
-        arc = self.arc_length()
-        problem = run.problem("broken", self.ctx, self.terms, self.bcs, self.petsc_options, rows=arc.rows(),
-                              energy_scale=self.energy_scale)
+        stability = self.stability
+        assert stability is not None, "entered after the branch"
 
         def observe():
-            return {**self.observe(), **self.stability.offsets()}
+            return {**self.observe(), **stability.offsets()}
 
         def on_accept(values):
-            values["unstable_modes"] = self.stability.count()
+            values["unstable_modes"] = stability.count()
 
         error = None
         try:
-            broken = follow_broken(arc, problem, self.stability, observe, self.end, on_accept, self.guard,
+            broken = follow_broken(self._broken_arc, problem, stability, observe, self.end, on_accept, self.guard,
                                    progress_keys=("V_over_V0", "P", "centroid_x", "centroid_y"))
         except ContinuationError as err:
             broken, error = err.branch, str(err)
         self._broken = broken.rows
         last = broken.rows[-1] if broken.rows else {}
         run.results["broken_branch"] = {
-            "from_V_over_V0": self.stability.bifurcations[0]["V_over_V0"], "points": len(broken.rows),
+            "from_V_over_V0": stability.bifurcations[0]["V_over_V0"], "points": len(broken.rows),
             "error": error, "limit_points": [{**lp.values, "kind": lp.kind} for lp in broken.limit_points],
             **{key: last[key] for key in ("V_over_V0", "P", "centroid_x", "centroid_y", "unstable_modes")
                if key in last}}
+        return Ended(error or f"the end condition holds at point {len(broken.rows)}")
 
     def tables(self, rows, summary) -> dict[str, list[dict]]:
         return {"broken.csv": self._broken} if self._broken else {}
