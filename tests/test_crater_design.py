@@ -215,3 +215,22 @@ def test_a_failed_cycle_is_traced_again_with_bounded_steps(monkeypatch):
     with pytest.raises(SolveError, match="^first failed$"):
         crater.solve(crater.Params(self_contact=0), MPI.COMM_SELF)
     assert calls == [False]
+
+
+def test_the_dissertation_specimen_is_a_preset_of_the_radius(tmp_path):
+    """``--specimen dissertation`` is the section 4a wide (25.40 mm); the physical puck stays the
+    default; a radius of one's own needs the physical preset; the preset survives a sweep's
+    replace(); and the point of a physical run keeps its sweep key (the field is ``later``)."""
+    from dataclasses import replace
+
+    from bcfem.run.sweep import point_key
+
+    physical, wide = crater.Params(), crater.Params(specimen="dissertation")
+    assert physical.specimen_radius == 12.70 and wide.specimen_radius == 25.40
+    assert replace(wide, beta=1.0).specimen_radius == 25.40
+    assert point_key({"beta": 1.0}, physical) == point_key({"beta": 1.0}, replace(physical))
+    assert point_key({"beta": 1.0}, wide) != point_key({"beta": 1.0}, physical)
+    with pytest.raises(ValueError, match="--specimen dissertation sets --specimen-radius"):
+        crater.Params(specimen="dissertation", specimen_radius=30.0)
+    with pytest.raises(ValueError, match="--specimen must be one of"):
+        crater.Params(specimen="large")

@@ -33,7 +33,7 @@ def sealed_compression(comm, plate: str, bottom: str = "held",
     from bcfem.path.stepping import LoadPath
     from bcfem.scenes.crater_double.model import SEALED_BOTTOM, DoubleCrater
 
-    model = DoubleCrater(Params(**COARSE, plate=plate, bottom=bottom).specimen(), comm)
+    model = DoubleCrater(Params(**COARSE, plate=plate, bottom=bottom).model_inputs(), comm)
     rest = global_sum(model.volume)
     model.ctx.real_state("fluid_pressure").x.array[:] = 1.0
     terms = model.terms(IdealGas(model.cavity, rest))
@@ -129,7 +129,7 @@ def test_the_sidewall_on_the_protuberance_is_the_split():
 
     from bcfem.scenes.crater_double.model import DoubleCrater
 
-    model = DoubleCrater(Params(**COARSE).specimen(), MPI.COMM_WORLD)
+    model = DoubleCrater(Params(**COARSE).model_inputs(), MPI.COMM_WORLD)
     g = model.geometry
     zc, h = g.centre_height, COARSE["size_contact"]
     width = g.r0 - g.R0
@@ -153,7 +153,7 @@ def test_a_bonded_top_face_does_not_slip_on_the_platen(top):
     from bcfem.path.stepping import LoadPath
     from bcfem.scenes.crater_double.model import DoubleCrater
 
-    model = DoubleCrater(Params(size_wall=0.08, size_contact=0.02, top=top).specimen(), MPI.COMM_SELF)
+    model = DoubleCrater(Params(size_wall=0.08, size_contact=0.02, top=top).model_inputs(), MPI.COMM_SELF)
     with Problem(model.ctx, model.terms(), model.bcs, f"bcfem_test_top_{top}_", {"snes_type": "vinewtonrsls"},
                  energy_scale=model.energy_scale) as problem:
         model.contact_bounds(problem)

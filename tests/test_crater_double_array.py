@@ -38,7 +38,7 @@ def pressed(comm, eps=EPS, **kwargs) -> tuple[float, float]:
     from bcfem.path.stepping import LoadPath
     from bcfem.scenes.crater_double.model import DoubleCrater
 
-    model = DoubleCrater(Params(**{**NEEDLE, **kwargs}).specimen(), comm)
+    model = DoubleCrater(Params(**{**NEEDLE, **kwargs}).model_inputs(), comm)
     with Problem(model.ctx, model.terms(), model.bcs, f"bcfem_test_array_{comm.size}_",
                  {"snes_type": "vinewtonrsls"}, energy_scale=model.energy_scale,
                  line_search_fallbacks=("bt", "cp")) as problem:

@@ -53,7 +53,7 @@ def test_the_plug_closes_the_chambers():
     from bcfem.scenes.crater_double.chamber_membrane import ChamberMembrane
     from bcfem.scenes.crater_double.model import DoubleCrater
 
-    model = DoubleCrater(COARSE.specimen(), MPI.COMM_SELF)
+    model = DoubleCrater(COARSE.model_inputs(), MPI.COMM_SELF)
     g = model.geometry
     heights = model.split._heights[SIDEWALL]
     zb = g.centre_height

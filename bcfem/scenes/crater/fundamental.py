@@ -74,7 +74,7 @@ class FundamentalCycle(CraterScene):
                     line_search_fallbacks=LINE_SEARCH_FALLBACKS, rows=self.arc.rows())
 
     def setup(self, run) -> None:
-        model = self.model = self.model_class(self.params.specimen(), self.comm)
+        model = self.model = self.model_class(self.params.model_inputs(), self.comm)
         run.watch([model.u])
         self.cycle, self.folds = Cycle(), []
         run.results.update(retraced=None, folds=self.folds, **self.cycle.partial())

@@ -80,7 +80,7 @@ MAX_LIFT = 0.1
 class Specimen:
     """What a crater model is built from (:class:`bcfem.scenes.crater.model.Crater`): the
     geometry, the material, the elements, the bottom face, the path and the checks it carries.
-    Each scene's parameters give their own (``Params.specimen()``); a model reads nothing else.
+    Each scene's parameters give their own (``Params.model_inputs()``); a model reads nothing else.
 
     Attributes:
         geometry: the dimensions and mesh sizes (:class:`~bcfem.geometry.crater.CraterGeometry`,
@@ -152,6 +152,11 @@ COLUMNS = FUNDAMENTAL_COLUMNS
 STABILITY = ["stable", "unstable-unloading", "unstable-both"]
 
 
+#: the specimens (``--specimen``): the experiment's puck, and the dissertation's FE model as its
+#: numbers pin it (a section 4a wide: the crater's diameter drawn as the radius; docs/results.md)
+SPECIMENS = {"physical": 12.70, "dissertation": 25.40}
+
+
 @dataclass(frozen=True)
 class Params:
     """Parameters of ``crater``; each field's help and unit are in its metadata (``--help``)."""
@@ -169,8 +174,13 @@ class Params:
     kappa_ratio: float = field(default=1e4, metadata=describe("bulk over shear modulus", "1", bound=Bound(10, 1e8)))
     size_crater: float = field(default=0.06, metadata=describe(
         "element size at the crater over a", "1", bound=Bound(3e-3, 0.5)))
+    specimen: str = field(default="physical", metadata=describe(
+        "the specimen's radius: physical (the experiment's puck, 12.70 mm, = 2a) or dissertation (the "
+        "dissertation's FE model as its numbers pin it, 25.40 mm = 4a: its closure strains, optima "
+        "and design maps; docs/results.md); a --specimen-radius of its own needs physical",
+        choices=tuple(SPECIMENS), later=True))
     specimen_radius: float = field(default=12.70, metadata=describe(
-        "specimen radius Rs, in (a, 50 a]", "mm", bound=Bound(1e-3, 1e4)))
+        "specimen radius Rs, in (a, 50 a] (--specimen dissertation: 25.40)", "mm", bound=Bound(1e-3, 1e4)))
     specimen_height: float = field(default=35.13, metadata=describe(
         "specimen height Hs, above the crater and at most 100 a", "mm", bound=Bound(1e-3, 1e4)))
     crater_radius: float = field(default=6.35, metadata=describe(
@@ -231,6 +241,13 @@ class Params:
 
     def __post_init__(self):
         check_bounds(self)
+        require(self.specimen in SPECIMENS, f"--specimen must be one of {list(SPECIMENS)} (got {self.specimen!r})")
+        if self.specimen != "physical":
+            preset = SPECIMENS[self.specimen]
+            require(self.specimen_radius in (SPECIMENS["physical"], preset),
+                    f"--specimen {self.specimen} sets --specimen-radius to {preset:.2f} mm: give one of them "
+                    f"(got --specimen-radius {self.specimen_radius:g})")
+            object.__setattr__(self, "specimen_radius", preset)
         require(self.path in PATHS, f"--path must be one of {list(PATHS)} (got {self.path!r})")
         require(self.fluid in FLUID_NAMES, f"--fluid must be one of {list(FLUID_NAMES)} (got {self.fluid!r})")
         require(self.element in ELEMENTS, f"--element must be one of {list(ELEMENTS)} (got {self.element!r})")
@@ -255,7 +272,7 @@ class Params:
         with flags_named(self):
             self.geometry()  # the crater inside the specimen: ValueError naming it, before any meshing
 
-    def specimen(self) -> Specimen:
+    def model_inputs(self) -> Specimen:
         """What the crater model is built from."""
         return Specimen(self.geometry(), self.beta, self.kappa_ratio, self.specimen_height, self.surface_energy,
                         self.layer_thickness, self.layer_stiffness, self.self_contact, self.waves, self.element,

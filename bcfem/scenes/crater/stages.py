@@ -127,7 +127,7 @@ class CraterCycle(CraterScene):
                     energy_scale=self.crater.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS)
 
     def setup(self, run) -> None:
-        model = self.model = self.model_class(self.params.specimen(), self.comm)
+        model = self.model = self.model_class(self.params.model_inputs(), self.comm)
         run.watch([model.u])
         self.cycle = Cycle()
         run.results.update(retraced=None, **self.cycle.partial())

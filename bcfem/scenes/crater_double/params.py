@@ -223,7 +223,7 @@ class Params:
         with flags_named(self):
             self.geometry()  # a protuberance that does not fit, R0 >= r0: ValueError naming it
 
-    def specimen(self) -> DoubleSpecimen:
+    def model_inputs(self) -> DoubleSpecimen:
         """What the double crater's model is built from: no lining, Taylor-Hood elements, the
         stable path."""
         return DoubleSpecimen(self.geometry(), self.beta, self.kappa_ratio, self.specimen_height,

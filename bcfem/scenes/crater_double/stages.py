@@ -192,7 +192,7 @@ class DoubleCraterCycle(StagedScene):
                     line_search_fallbacks=LINE_SEARCH_FALLBACKS)
 
     def setup(self, run) -> None:
-        model = self.model = self.model_class(self.params.specimen(), self.comm)
+        model = self.model = self.model_class(self.params.model_inputs(), self.comm)
         run.watch([model.u])
         self.V0 = global_sum(model.volume)
         self.A0 = math.pi * model.geometry.r0**2

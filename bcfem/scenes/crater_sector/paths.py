@@ -141,7 +141,7 @@ def axisymmetric_suction_waves(suctions, waves: int, layer_thickness: float, lay
                     layer_stiffness=layer_stiffness, size_crater=size_crater, surface_energy=0.0, self_contact=0.0,
                     waves=waves, specimen_radius=sector.radius, specimen_height=sector.height,
                     crater_radius=sector.crater_radius)
-    model = Crater(params.specimen(), comm)
+    model = Crater(params.model_inputs(), comm)
     if drawn:  # the volume drawn off, V = (1 - r) V0, the suction s = 1 - p
         V0 = model.geometry.crater_volume
         liquid = IncompressibleLiquid(model.cavity, sealed_volume=V0)
