@@ -507,3 +507,17 @@ def test_a_wrong_residual_fails_the_taylor_test():
         dx.destroy()
     rates = rate(result["energy_remainders"], 1.0)
     assert np.all(np.abs(rates - 1) < 0.1), rates
+
+
+@pytest.mark.mpi
+def test_an_inverted_solid_is_inadmissible():
+    """J <= 0 at a quadrature point makes the solid's strain energy undefined (ln J) though a
+    residual in 1/J may vanish: the term vetoes such a state; a stretched one it admits."""
+    ctx = solid_ctx()
+    term = SolidStrain(NearlyIncompressibleNeoHookean(mu=1.0, kappa=100.0))
+    term.energy(ctx)
+    ctx.u.interpolate(lambda x: np.vstack([0.2 * x[0], 0.1 * x[1]]))
+    assert term.inadmissible(ctx) is None
+    ctx.u.interpolate(lambda x: np.vstack([0 * x[0], -1.5 * x[1]]))  # F_zz = -0.5: J < 0 everywhere
+    message = term.inadmissible(ctx)
+    assert message is not None and "inverts" in message

@@ -74,3 +74,6 @@ class Scaled(Term):
         k = ctx.parameters(self, {"value": self.constant}).value
         form = self.term.energy(ctx)
         return ufl.Form([i.reconstruct(integrand=k * i.integrand()) for i in form.integrals()])
+
+    def inadmissible(self, ctx: Context) -> str | None:
+        return self.term.inadmissible(ctx)

@@ -17,6 +17,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
+from collections.abc import Callable
 from typing import Any
 
 import basix.ufl
@@ -58,6 +59,8 @@ class Context:
         self._entity_maps: list = []
         #: the body's measure, shared with every view (:meth:`with_kinematics`)
         self._measure: list[fem.Constant] = []
+        #: what terms compute once per context (a compiled measure of the state)
+        self._cache: dict[str, Any] = {}
 
     @property
     def real_space(self) -> fem.FunctionSpace:
@@ -74,6 +77,13 @@ class Context:
             measure = global_sum(fem.form(1.0 * ufl.dx(domain=self.mesh)))
             self._measure.append(fem.Constant(self.mesh, dolfinx.default_scalar_type(measure)))
         return self._measure[0]
+
+    def cached(self, key: str, make: Callable[[], Any]) -> Any:
+        """``make()`` once per context (and kinematics): a term's compiled measure of the state."""
+        key = f"{key}@{id(self.kin)}"
+        if key not in self._cache:
+            self._cache[key] = make()
+        return self._cache[key]
 
     def with_kinematics(self, kin) -> Context:
         """This context seen through another kinematics (a membrane on a solid's surface): the

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 import ufl
 
+from bcfem.mpi import cell_maximum
 from bcfem.params import require
 from bcfem.physics.materials import slopes
 from bcfem.physics.protocols import Term
@@ -188,6 +189,13 @@ class SolidStrain(Term):
     def energy(self, ctx: Context) -> ufl.Form:
         p = ctx.field_state("solid_pressure", self.pressure_degree)
         return ctx.kin.integral(ctx.parameters(self.material).density(ctx.kin, p), self.region)
+
+    def inadmissible(self, ctx: Context) -> str | None:
+        """An inverted solid: J <= 0 at a quadrature point (the energy's ln J is then undefined,
+        though a residual in 1/J may still vanish)."""
+        smallest = -ctx.cached("solid_J_min", lambda: cell_maximum(
+            ctx.mesh, -ctx.kin.J, ctx.u.function_space.element.basix_element.degree))()
+        return None if smallest > 0 else f"the solid inverts: J = {smallest:.3g} <= 0 at a quadrature point"
 
 
 @dataclass(frozen=True)

@@ -119,6 +119,12 @@ class Term:
         """Whether the term is part of the energy of the scene's stage ``stage``."""
         return self.stages is None or stage in self.stages
 
+    def inadmissible(self, ctx: Context) -> str | None:
+        """Why the converged state of ``ctx`` is unphysical for this term (an inverted
+        element: the problem then rejects it, and the solve fails like any other), or None.
+        Collective. Default: every state is admissible."""
+        return None
+
     def energy(self, ctx: Context) -> ufl.Form:
         """The term's energy as one scalar UFL form in the reference configuration.
 

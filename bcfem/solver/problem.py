@@ -245,10 +245,13 @@ class Problem(ConvergedAlgebra):
         if ok:
             x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
             assign(x, self.states)
-            # an equilibrium can still be unphysical (a wall through itself): the terms that
-            # know their geometry may veto it, and the solve fails like any other
+            # an equilibrium can still be unphysical (a wall through itself, an inverted
+            # solid): the terms that know their geometry may veto it, and the solve fails
+            # like any other
             self.inadmissible = next((message for term in self.discrete
-                                      for message in [term.inadmissible()] if message), None)
+                                      for message in [term.inadmissible()] if message), None) or \
+                next((message for term in self.terms if not isinstance(term, DiscreteTerm)
+                      for message in [term.inadmissible(self.ctx)] if message), None)
             ok = self.inadmissible is None
             self._check_pivots()
             if not ok:
