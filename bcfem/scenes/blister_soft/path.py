@@ -99,6 +99,7 @@ def homotopy(problem, path, dt: float = 0.125, dt_min: float = 1e-3) -> int:
     doubled after a success, down to ``dt_min``); returns the number of solves. The
     problem's rows stay as they are (the arc-length start row)."""
     t, solves = 0.0, 0
+    rejections = problem.rejections
     while t < 1.0:
         saved = problem.save()
         trial = min(1.0, t + dt)
@@ -111,7 +112,10 @@ def homotopy(problem, path, dt: float = 0.125, dt_min: float = 1e-3) -> int:
         path(t)
         dt /= 2
         if dt < dt_min:
-            raise ContinuationError(f"the start homotopy stalled at t = {t:.6g} ({problem.failure})")
+            rejected = problem.rejections - rejections
+            raise ContinuationError(f"the start homotopy stalled at t = {t:.6g} ({problem.failure})"
+                                    + (f"; {rejected} converged states on the way were rejected, the last as: "
+                                       f"{problem.last_rejection}" if rejected else ""))
     return solves
 
 
