@@ -27,6 +27,9 @@ class Quadratic:
         self.u[:] = self.load
         return True
 
+    def energy(self):
+        return 0.5 * float(self.u @ self.u)
+
 
 def test_rewind_restores_state_load_snaps_and_events():
     problem = Quadratic()
@@ -83,7 +86,7 @@ def test_a_failed_relaxation_is_not_repeated_from_the_same_state(monkeypatch):
             return super().solve()
 
     calls = []
-    monkeypatch.setattr(stepping, "relax", lambda *args: calls.append(args) or (False, 1))
+    monkeypatch.setattr(stepping, "relax", lambda *args: calls.append(args) or (False, 1, 0.0))
     problem = Wall()
     path = LoadPath(problem, lambda v: setattr(problem, "load", v), "load", viscosity=object(),
                     check_stability=False)
@@ -254,7 +257,7 @@ def test_root_past_a_snap_continues_on_the_branch_fallen_onto(monkeypatch):
     def relax(problem, viscosity, stiffness):
         relaxations.append(problem.load)
         problem.u[:] = problem.load  # falls onto B
-        return True, 1
+        return True, 1, 0.01
 
     monkeypatch.setattr(stepping, "relax", relax)
     problem = Fold()
@@ -266,6 +269,9 @@ def test_root_past_a_snap_continues_on_the_branch_fallen_onto(monkeypatch):
     mark = path.mark(0.3)
     path.advance(0.3, 0.2, 0.1)
     assert path.snaps == 1 and len(relaxations) == 1 and problem.u[0] == 0.2
+    # the snap reports the relaxation's dissipated energy over the energy it landed on
+    snap = next(e for e in path.events if e["kind"] == "snap")
+    assert snap["dissipated_fraction"] == pytest.approx(0.01 / problem.energy())
     branches = []
 
     def f():

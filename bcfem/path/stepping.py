@@ -153,15 +153,18 @@ class LoadPath:
                 # full first step on, past it
                 trial = current + direction * min(first, abs(target - current))
                 self.set_load(trial)
-                converged, steps = relax(self.problem, self.viscosity, self.relax_stiffness)
+                converged, steps, dissipated = relax(self.problem, self.viscosity, self.relax_stiffness)
                 if converged:
                     ok = snapped = True
                     self.snaps += 1
                     if self.snaps > self.max_snaps:
                         raise SteppingError(f"{self.stage}: more than {self.max_snaps} snaps (the path keeps "
                                             f"losing stability, e.g. a deepening crease) at {trial:.5g}", current)
+                    stored = max(abs(self.problem.energy()), 1e-300)
                     self.events.append({"stage": self.stage, self.load_name: trial, "kind": "snap", "unstable": None,
-                                        "detail": f"passed by pseudo-time relaxation ({steps} steps)"})
+                                        "detail": f"passed by pseudo-time relaxation ({steps} steps), which "
+                                                  f"dissipated {dissipated / stored:.2%} of the stored energy",
+                                        "dissipated_fraction": dissipated / stored})
                 else:
                     self.problem.restore(self._saved)
                     relax_failed_from = current

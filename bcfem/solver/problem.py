@@ -20,6 +20,7 @@ from dolfinx.fem.petsc import NonlinearProblem, assign
 
 from bcfem import interrupt, jit
 from bcfem.log import logger
+from bcfem.mpi import global_sum
 from bcfem.physics.protocols import DiscreteTerm, total_energy
 from bcfem.solver import fieldsplit, options, petsc_events, pivots
 from bcfem.solver.algebra import ConvergedAlgebra
@@ -65,6 +66,7 @@ class Problem(ConvergedAlgebra):
         self.terms = checked_terms(terms)
         self.discrete = [t for t in self.terms if isinstance(t, DiscreteTerm)]
         self.lagrangian = total_energy(ctx, self.terms)
+        self._energy: fem.Form | None = None
         rows = rows or {}
         # a Constant, so that a new scale does not mean a new compiled form
         inverse_scale = fem.Constant(ctx.mesh, 1.0 / energy_scale)
@@ -365,6 +367,13 @@ class Problem(ConvergedAlgebra):
             pc.setOptionsPrefix(self.prefix + "reduced_")
             inner = fieldsplit.reduced_inner_ksp(self, self.field_split)
             pc.setPythonContext(ReducedLU(self.snes, "", self.prefix, inner=inner))
+
+    def energy(self) -> float:
+        """The Lagrangian at the current states, summed over the ranks (collective; its form
+        compiled on the first call)."""
+        if self._energy is None:
+            self._energy = fem.form(self.lagrangian)
+        return global_sum(self._energy)
 
     def kept(self, key: str, make):
         """The resource ``key`` of this problem, made by ``make()`` on first use and closed
