@@ -1,6 +1,8 @@
 """The crater design space (sections 7.3-7.4, ch. 8): reinforcement layers, the closure
 preload eps_m, liquid at full closure, and the stability classification."""
 
+import json
+
 from mpi4py import MPI
 
 import pytest
@@ -217,16 +219,19 @@ def test_a_failed_cycle_is_traced_again_with_bounded_steps(monkeypatch):
     assert calls == [False]
 
 
-def test_the_dissertation_specimen_is_a_preset_of_the_radius(tmp_path):
-    """``--specimen dissertation`` is the section 4a wide (25.40 mm); the physical puck stays the
-    default; a radius of one's own needs the physical preset; the preset survives a sweep's
-    replace(); and the point of a physical run keeps its sweep key (the field is ``later``)."""
+def test_the_dissertation_specimen_is_a_preset_of_radius_and_element(tmp_path):
+    """``--specimen dissertation`` is the section 4a wide (25.40 mm) of Q1-P0 cells (CAX4H); the
+    physical puck of P2-P1 cells stays the default; a radius of one's own needs the physical
+    preset; the preset survives a sweep's replace(); and the point of a physical run keeps its
+    sweep key (the field is ``later``)."""
     from dataclasses import replace
 
     from bcfem.run.sweep import point_key
 
     physical, wide = crater.Params(), crater.Params(specimen="dissertation")
     assert physical.specimen_radius == 12.70 and wide.specimen_radius == 25.40
+    assert physical.element == "p2p1" and wide.element == "q1p0"
+    assert crater.Params(specimen="dissertation", element="q1p0").element == "q1p0"
     assert replace(wide, beta=1.0).specimen_radius == 25.40
     assert point_key({"beta": 1.0}, physical) == point_key({"beta": 1.0}, replace(physical))
     assert point_key({"beta": 1.0}, wide) != point_key({"beta": 1.0}, physical)
@@ -234,3 +239,47 @@ def test_the_dissertation_specimen_is_a_preset_of_the_radius(tmp_path):
         crater.Params(specimen="dissertation", specimen_radius=30.0)
     with pytest.raises(ValueError, match="--specimen must be one of"):
         crater.Params(specimen="large")
+
+
+def dissertation(**kwargs):
+    """A cycle of the dissertation's FE model (``--specimen dissertation``) on this process."""
+    return crater.solve(crater.Params(specimen="dissertation", **kwargs), MPI.COMM_SELF)[1]
+
+
+@slow
+@pytest.mark.serial
+def test_the_dissertation_model_closes_where_it_says_whatever_beta():
+    """Section 7.2.4: eps_m = 0.47, eps_c = 0.43 (the preload whose end-of-unloading -dp reaches
+    0.83 p_a, Fig. 7.6b). Vented loading cannot depend on beta = mu / p_a; at beta = 1 the aspect
+    0.7 beats 0.85 (Fig. 7.9)."""
+    closed = [dissertation(preload=crater.PRELOAD_TO_CLOSURE, beta=beta)["eps_m"] for beta in (0.467, 1.0)]
+    assert closed[0] == pytest.approx(0.47, rel=0.03)
+    assert closed[1] == pytest.approx(closed[0], rel=5e-3)
+    drops = {eps: 1 - dissertation(preload=eps, beta=1.0)["p2_over_pa"] for eps in (0.4, 0.45)}
+    assert drops[0.4] < 0.83 < drops[0.45]
+    eps_c = 0.4 + (0.83 - drops[0.4]) * 0.05 / (drops[0.45] - drops[0.4])
+    assert eps_c == pytest.approx(0.43, rel=0.03)
+    optimum, other = (dissertation(preload=crater.PRELOAD_TO_CLOSURE, beta=1.0, alpha=alpha)["F_tilde"]
+                      for alpha in (0.7, 0.85))
+    assert optimum > other
+
+
+@slow
+@pytest.mark.serial
+def test_a_reinforced_closure_does_not_depend_on_round_off(tmp_path):
+    """Fig. 7.12d's lining (alpha' = 0.03, beta' = 80), closed and unloaded through snaps: the same
+    F~ on 1 and 2 ranks, with another BLAS kernel and with a tighter Newton tolerance; physics,
+    not round-off, picks its path."""
+    args = ("run", "crater", "--specimen", "dissertation", "--preload", "closure", "--beta", "1",
+            "--layer-thickness", "0.03", "--layer-stiffness", "80", "--no-plots", "--quiet")
+    found = {}
+    for name, ranks, extra, env in (("serial", 1, (), None), ("ranks", 2, (), None),
+                                    ("kernel", 1, (), {"OPENBLAS_CORETYPE": "Haswell"}),
+                                    ("rtol", 1, ("-snes_rtol", "1e-11"), None)):
+        done = bcfem(*args, *extra, "--out", tmp_path / name, ranks=ranks, env=env)
+        assert done.returncode == 0, done.stderr
+        summary = json.loads((tmp_path / name / "summary.json").read_text())
+        assert summary["instabilities"], "the path passes no instability: nothing is tested"
+        found[name] = summary["F_tilde"]
+    for name, value in found.items():
+        assert value == pytest.approx(found["serial"], rel=1e-6), (name, found)

@@ -152,9 +152,18 @@ COLUMNS = FUNDAMENTAL_COLUMNS
 STABILITY = ["stable", "unstable-unloading", "unstable-both"]
 
 
-#: the specimens (``--specimen``): the experiment's puck, and the dissertation's FE model as its
-#: numbers pin it (a section 4a wide: the crater's diameter drawn as the radius; docs/results.md)
-SPECIMENS = {"physical": 12.70, "dissertation": 25.40}
+@dataclass(frozen=True)
+class Preset:
+    """A specimen (``--specimen``): its radius in mm and its solid's elements."""
+
+    radius: float
+    element: str
+
+
+#: the experiment's puck, and the dissertation's FE model as its numbers pin it: a section 4a
+#: wide (the crater's diameter drawn as the radius) of Abaqus's CAX4H elements, whose coarse
+#: outer face does not crease (docs/results.md)
+SPECIMENS = {"physical": Preset(12.70, "p2p1"), "dissertation": Preset(25.40, "q1p0")}
 
 
 @dataclass(frozen=True)
@@ -175,9 +184,11 @@ class Params:
     size_crater: float = field(default=0.06, metadata=describe(
         "element size at the crater over a", "1", bound=Bound(3e-3, 0.5)))
     specimen: str = field(default="physical", metadata=describe(
-        "the specimen's radius: physical (the experiment's puck, 12.70 mm, = 2a) or dissertation (the "
-        "dissertation's FE model as its numbers pin it, 25.40 mm = 4a: its closure strains, optima "
-        "and design maps; docs/results.md); a --specimen-radius of its own needs physical",
+        "the specimen: physical (the experiment's puck, radius 12.70 mm = 2a, p2p1 elements) or "
+        "dissertation (the dissertation's FE model as its numbers pin it: radius 25.40 mm = 4a, q1p0 "
+        "elements like its CAX4H, whatever --element says; its closure strains, optima and design maps; "
+        "docs/results.md); a --specimen-radius of its own needs physical (p2p1 at 25.40 mm: "
+        "--specimen-radius 25.4)",
         choices=tuple(SPECIMENS), later=True))
     specimen_radius: float = field(default=12.70, metadata=describe(
         "specimen radius Rs, in (a, 50 a] (--specimen dissertation: 25.40)", "mm", bound=Bound(1e-3, 1e4)))
@@ -243,11 +254,12 @@ class Params:
         check_bounds(self)
         require(self.specimen in SPECIMENS, f"--specimen must be one of {list(SPECIMENS)} (got {self.specimen!r})")
         if self.specimen != "physical":
-            preset = SPECIMENS[self.specimen]
-            require(self.specimen_radius in (SPECIMENS["physical"], preset),
-                    f"--specimen {self.specimen} sets --specimen-radius to {preset:.2f} mm: give one of them "
-                    f"(got --specimen-radius {self.specimen_radius:g})")
-            object.__setattr__(self, "specimen_radius", preset)
+            physical, preset = SPECIMENS["physical"], SPECIMENS[self.specimen]
+            require(self.specimen_radius in (physical.radius, preset.radius),
+                    f"--specimen {self.specimen} sets --specimen-radius to {preset.radius:.2f} mm: give one of "
+                    f"them (got --specimen-radius {self.specimen_radius:g})")
+            object.__setattr__(self, "specimen_radius", preset.radius)
+            object.__setattr__(self, "element", preset.element)
         require(self.path in PATHS, f"--path must be one of {list(PATHS)} (got {self.path!r})")
         require(self.fluid in FLUID_NAMES, f"--fluid must be one of {list(FLUID_NAMES)} (got {self.fluid!r})")
         require(self.element in ELEMENTS, f"--element must be one of {list(ELEMENTS)} (got {self.element!r})")
