@@ -63,9 +63,12 @@ bench: venv
 	$(BIN)/python benchmarks/droplet_soft_cusp.py
 
 # the dissertation's figures, reproduced by the demos on $(NP) ranks: docs/figures/<demo>/
-# (--full: the published grids; demos without such a grid ignore it)
+# (--full: the published grids; demos without such a grid ignore it); the crater demos again on
+# the dissertation's FE model: docs/figures/<demo>_dissertation/
+DISSERTATION_MODEL_DEMOS := crater_air crater_design
 report: venv
 	@for d in $(DEMOS); do echo "== $$d"; PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) $(BIN)/python demos/$$d.py --quiet --full --out docs/figures/$$d || exit 1; done
+	@for d in $(DISSERTATION_MODEL_DEMOS); do echo "== $$d --dissertation-model"; PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) $(BIN)/python demos/$$d.py --quiet --full --dissertation-model --out docs/figures/$${d}_dissertation || exit 1; done
 
 clean:
 	rm -rf results .pytest_cache

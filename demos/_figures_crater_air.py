@@ -131,7 +131,8 @@ def draw(results) -> None:
             ax.set_visible(False)
     fig.suptitle(f"Deformed cross-section near the crater, one cycle at preload $\\varepsilon$ = {results.shape_preload} "
                  f"(dissertation Fig. 7.5b; a = {results.base.crater_radius} mm)\nblue: crater wall, dotted: wall at rest, "
-                 "black: the plate; grey: the specimen's mesh (P1 interpolation of the P2 displacement)", fontsize=10)
+                 "black: the plate; grey: the specimen's mesh"
+                 + (" (P1 interpolation of the P2 displacement)" if results.base.element == "p2p1" else ""), fontsize=10)
     fig.tight_layout()
     io.save_figure(fig, results.run.out / "fig7_5b.png", results.run.comm)
     plt.close(fig)

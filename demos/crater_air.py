@@ -101,9 +101,13 @@ comm = MPI.COMM_WORLD
 args, report = demo.setup("crater_air", "Dissertation Figures 7.5b, 7.6, 7.7a: the air crater's suction cycle", comm,
                           full="the preloads eps = 0.025:0.5:0.025 (20 cycles) instead of "
                                + ", ".join(f"{e:g}" for e in GRID["default"]),
-                          refine="half the crater's element size (size_crater)")
+                          refine="half the crater's element size (size_crater)",
+                          dissertation="the cycles on --specimen dissertation (a section 4a wide of Q1-P0 "
+                                       "cells) instead of the experiment's puck")
 study = Study("crater_air", comm, args.out)  # every solve counted; summary.json in the runner's schema
 full = args.full
+if args.dissertation_model:
+    BASE = replace(BASE, specimen="dissertation")
 if args.refine:
     BASE = replace(BASE, size_crater=BASE.size_crater / 2)
 PRELOADS = GRID["full" if full else "default"]

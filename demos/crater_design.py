@@ -116,9 +116,15 @@ CLOSED = crater.CLOSURE_CRITERIA.closed
 comm = MPI.COMM_WORLD
 args, report = demo.setup("crater_design", "Dissertation Figures 7.9-7.12, 8.4, 8.6b, 8.7: the crater design space",
                           comm, full="the published maps (about 200 cycles) instead of a few points of each",
-                          refine="half the crater's element size (size_crater) in every map and shape")
+                          refine="half the crater's element size (size_crater) in every map and shape",
+                          dissertation="every map and shape on --specimen dissertation (a section 4a wide "
+                                       "of Q1-P0 cells) instead of the experiment's puck")
 study = Study("crater_design", comm, args.out)  # every solve counted; summary.json in the runner's schema
 full = args.full
+FIGURES = "crater_design_dissertation" if args.dissertation_model else "crater_design"  # make report's folder
+if args.dissertation_model:
+    MAPS = {name: (replace(base, specimen="dissertation"), axes) for name, (base, axes) in MAPS.items()}
+    AIR = replace(AIR, specimen="dissertation")
 if args.refine:
     MAPS = {name: (replace(base, size_crater=base.size_crater / 2), axes) for name, (base, axes) in MAPS.items()}
     AIR = replace(AIR, size_crater=AIR.size_crater / 2)
@@ -128,12 +134,14 @@ def command(name: str) -> str:
     """The ``bcfem sweep crater`` command of a map (the same points as this demo's)."""
     base, axes = MAPS[name]
     default = crater.Params()
+    preset = crater.Params(specimen=base.specimen)  # what --specimen sets goes without saying
     fixed = [f"--{k.replace('_', '-')} {'closure' if k == 'preload' and v == crater.PRELOAD_TO_CLOSURE else f'{v:g}'}"
-             if k != "fluid" else f"--fluid {v}"
-             for k, v in asdict(base).items() if v != getattr(default, k) and k not in axes]
+             if not isinstance(v, str) else f"--{k.replace('_', '-')} {v}"
+             for k, v in asdict(base).items()
+             if v != getattr(default, k) and k not in axes and (k == "specimen" or v != getattr(preset, k))]
     grid = [f"--grid {k}={','.join(f'{v:g}' for v in values)}" for k, values in axes.items()]
     return " ".join(["mpirun -n 2 bcfem sweep crater", *fixed, *grid,
-                     f"--out docs/figures/crater_design/sweeps/{name}"])
+                     f"--out docs/figures/{FIGURES}/sweeps/{name}"])
 
 
 # %% [markdown]

@@ -40,8 +40,8 @@ EXPECTED = {
 TIMEOUT = 600  # [s]; a deadlock at exit shows up as a timeout, not a hang
 
 
-def run_demo(demo: Path, out: Path, ranks: int) -> subprocess.CompletedProcess:
-    cmd = [sys.executable, str(demo), "--out", str(out)]
+def run_demo(demo: Path, out: Path, ranks: int, *flags: str) -> subprocess.CompletedProcess:
+    cmd = [sys.executable, str(demo), "--out", str(out), *flags]
     if ranks > 1:
         cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
     env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ.get('PATH', '')}"}
@@ -72,7 +72,7 @@ def test_demos_found():
 
 def test_every_demo_takes_the_common_flags():
     """Each demo parses its command line with ``bcfem.run.demo.setup`` alone (no flags of its own),
-    whose parser has --out, --quiet, --full and --refine."""
+    whose parser has --out, --quiet, --full, --refine and --dissertation-model."""
     from bcfem.run import demo
     options = {a for action in demo.parser("x", "x", "f", "r")._actions for a in action.option_strings}
     assert set(demo.FLAGS) <= options
@@ -132,3 +132,16 @@ def test_demo_mpi(demo, tmp_path):
     lines = [line for line in res.stdout.splitlines() if line.strip()]
     assert lines, f"{demo.name} printed nothing on rank 0"
     assert len(lines) == len(set(lines)), f"{demo.name}: output repeated by several ranks:\n{res.stdout}"
+
+
+@pytest.mark.parametrize("demo", [d for d in DEMOS if d.stem in ("crater_air", "crater_design")], ids=lambda p: p.stem)
+@pytest.mark.slow
+@pytest.mark.demo
+def test_crater_demo_on_the_dissertation_model(demo, tmp_path):
+    """The crater demos pass their own checks again on ``--specimen dissertation`` (4a, Q1-P0), on
+    two ranks; the design maps' commands name that model."""
+    out = tmp_path / "out"
+    check_outputs(demo, out, run_demo(demo, out, 2, "--dissertation-model"))
+    summary = json.loads((out / "summary.json").read_text())
+    if demo.stem == "crater_design":
+        assert all("--specimen dissertation" in c for c in summary["commands"].values()), summary["commands"]

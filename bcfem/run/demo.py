@@ -11,31 +11,37 @@ from typing import Any
 
 from bcfem.log import configure
 
-#: the flags every demo takes (``full``/``refine`` say what they change in the demo's --help)
-FLAGS = ("--out", "--quiet", "--full", "--refine")
+#: the flags every demo takes (``full``/``refine``/``dissertation`` say what they change in the
+#: demo's --help)
+FLAGS = ("--out", "--quiet", "--full", "--refine", "--dissertation-model")
 
 
-def parser(name: str, description: str, full: str, refine: str) -> argparse.ArgumentParser:
+def parser(name: str, description: str, full: str, refine: str,
+           dissertation: str = "the demo's model is the dissertation's") -> argparse.ArgumentParser:
     """The demo's command line: ``--out``, ``--quiet``, ``--full`` (the dissertation's published
-    grid) and ``--refine`` (a finer mesh); ``full`` and ``refine`` are their help texts."""
+    grid), ``--refine`` (a finer mesh) and ``--dissertation-model`` (the dissertation's FE model
+    where the demo's default is the experiment's); ``full``, ``refine`` and ``dissertation`` are
+    their help texts."""
     p = argparse.ArgumentParser(description=description)
     p.add_argument("--out", type=Path, default=Path("results") / name,
                    help=f"output directory (default: results/{name})")
     p.add_argument("--quiet", action="store_true", help="no continuation progress lines")
     p.add_argument("--full", action="store_true", help=f"the published grid: {full}")
     p.add_argument("--refine", action="store_true", help=f"a finer mesh: {refine}")
+    p.add_argument("--dissertation-model", action="store_true",
+                   help=f"the dissertation's FE model: {dissertation}")
     return p
 
 
 def setup(name: str, description: str, comm, full: str = "the demo's grid is the published one",
-          refine: str = "the demo's mesh is fixed"):
+          refine: str = "the demo's mesh is fixed", dissertation: str = "the demo's model is the dissertation's"):
     """Parse the demo's command line (:func:`parser`) and configure logging.
 
     Returns:
-        (args, report): the parsed arguments (``out``, ``quiet``, ``full``, ``refine``) and a
-        function that prints on rank 0.
+        (args, report): the parsed arguments (``out``, ``quiet``, ``full``, ``refine``,
+        ``dissertation_model``) and a function that prints on rank 0.
     """
-    args, _ = parser(name, description, full, refine).parse_known_args()  # a notebook kernel's own arguments
+    args, _ = parser(name, description, full, refine, dissertation).parse_known_args()  # a kernel's own arguments
     configure(comm, quiet=args.quiet)
 
     def report(message: str) -> None:
