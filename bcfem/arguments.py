@@ -164,6 +164,9 @@ def build_parser():
                        help="draw the PNGs (matplotlib is loaded only to draw them)")
         p.add_argument("--profile", action="store_true",
                        help="print where the wall time went (also in summary.json: time_split_s)")
+    status = sub.add_parser("status", help="what the run in a results directory did: finished, failed, "
+                            "interrupted, killed (its rows kept), or running")
+    status.add_argument("dir", type=Path, help="the run's --out directory")
     from bcfem.scenes import STUDIES
 
     sweep = sub.add_parser("sweep", help="solve a grid of parameter points over MPI ranks (resumable)")

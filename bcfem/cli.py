@@ -33,6 +33,8 @@ def _main(argv: list[str] | None) -> int:
     ours, petsc = split_petsc(argv)
     parser = build_parser()
     args = parse(parser, ours)
+    if args.command == "status":
+        return _status(args.dir)
     from bcfem.scenes import REGISTRY
 
     module = REGISTRY[args.scene]
@@ -59,6 +61,19 @@ def _main(argv: list[str] | None) -> int:
         return err.exit_code
 
 
+def _status(out) -> int:
+    """``bcfem status DIR``: one line on what the run there did (rank 0; a killed run's summary
+    is written)."""
+    from bcfem.run import outdir
+
+    comm = MPI.COMM_WORLD
+    line, code = outdir.status(out) if comm.rank == 0 else ("", 0)
+    code = comm.bcast(code)
+    if comm.rank == 0:
+        print(line, flush=True)
+    return code
+
+
 def _say(comm, line: str) -> None:
     """One line on stderr, from rank 0."""
     if comm.rank == 0:
@@ -71,7 +86,7 @@ def _locked(parser, args, comm):
     another run holds, is bad input (exit 2, before any meshing)."""
     from bcfem.run import outdir
     try:
-        created = outdir.lock(args.out, comm)
+        created = outdir.lock(args.out, comm, " ".join(sys.argv[1:]))
     except outdir.OutDirError as err:
         parser.exit(2, f"bcfem {args.command} {args.scene}: error: {err}\n" if comm.rank == 0 else "")
     try:

@@ -21,6 +21,7 @@ import tempfile
 from collections.abc import Sequence
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TextIO
 
 _recorders: list[list[Path]] = []
 
@@ -71,9 +72,58 @@ def write_csv(path, rows: list[dict], comm, columns: Sequence[str] | None = None
         w = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
         w.writeheader()
         for row in rows:
-            w.writerow({k: (repr(float(v)) if isinstance(v, float) else v) for k, v in row.items()})
+            w.writerow(_cells(row))
 
     _atomic_write(Path(path), write)
+
+
+def _cells(row: dict) -> dict:
+    """A row as the CSV writes it: floats to their shortest exact text."""
+    return {k: (repr(float(v)) if isinstance(v, float) else v) for k, v in row.items()}
+
+
+class RowJournal:
+    """A run's accepted rows on disk as they are accepted (rank 0): each row appended to the CSV
+    at ``path`` and flushed, so a killed run keeps every row up to its last accepted one. The
+    finished run writes the same table again atomically (:func:`write_csv`).
+
+    A row replaced or a path started again rewrites the file (:meth:`rewrite`)."""
+
+    def __init__(self, path, columns: Sequence[str] | None, comm):
+        self.path, self.columns, self.comm = Path(path), list(columns or []), comm
+        self._file: TextIO | None = None
+        self._writer: csv.DictWriter | None = None
+
+    def rewrite(self, rows: list[dict]) -> None:
+        """The file holds ``rows`` alone (a header first)."""
+        if self.comm.rank != 0:
+            return
+        self.close()
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._file = file = open(self.path, "w", newline="")
+        self._writer = writer = csv.DictWriter(file, fieldnames=self.columns, extrasaction="ignore")
+        writer.writeheader()
+        for row in rows:
+            writer.writerow(_cells(row))
+        file.flush()
+
+    def append(self, row: dict) -> None:
+        if self.comm.rank != 0:
+            return
+        if self._file is None or self._writer is None:
+            self.rewrite([])
+        assert self._file is not None and self._writer is not None
+        if not self.columns:  # the first row's keys, as write_csv takes them
+            self.columns = list(row)
+            self.rewrite([])
+            assert self._file is not None and self._writer is not None
+        self._writer.writerow(_cells(row))
+        self._file.flush()
+
+    def close(self) -> None:
+        if self._file is not None:
+            self._file.close()
+            self._file = None
 
 
 def read_csv(path) -> list[dict]:

@@ -1,10 +1,12 @@
 """A command's output directory: checked and locked before any meshing, and cleared of the
 files of an earlier run that this run does not write again.
 
-The lock is ``.bcfem.lock``, created exclusively by rank 0 with its pid and host, and removed
-at the end. A lock left by a process that is gone from this host (killed) is taken over, with
-that run's temporary files; a live one refuses the run. Only the files an earlier run's
-``summary.json`` lists as its own are ever removed, so a user's files are never touched.
+The lock is ``.bcfem.lock``, created exclusively by rank 0 with its pid, host and command, and
+removed at the end. A lock left by a process that is gone from this host (killed) is taken over,
+with that run's temporary files; a live one refuses the run. A killed run that wrote no summary
+gets one, ``status: killed`` with the rows it kept on disk (:func:`record_killed`; also by
+``bcfem status DIR``). Only the files an earlier run's ``summary.json`` lists as its own are ever
+removed, so a user's files are never touched.
 """
 
 from __future__ import annotations
@@ -22,14 +24,14 @@ class OutDirError(ValueError):
     """The directory cannot take this run's results (bad input: exit 2)."""
 
 
-def lock(out: Path, comm) -> bool:
-    """Create ``out`` and take its lock (collective); raises :class:`OutDirError` before
-    anything is written if ``out`` is no directory or another run holds it. Returns whether
-    ``out`` was created (for :func:`unlock`)."""
+def lock(out: Path, comm, command: str = "") -> bool:
+    """Create ``out`` and take its lock (collective), noting ``command`` in it; raises
+    :class:`OutDirError` before anything is written if ``out`` is no directory or another run
+    holds it. Returns whether ``out`` was created (for :func:`unlock`)."""
     outcome: bool | str | None = None
     if comm.rank == 0:
         try:
-            outcome = _lock(Path(out))
+            outcome = _lock(Path(out), command)
         except OutDirError as err:
             outcome = str(err)
     outcome = comm.bcast(outcome)
@@ -44,7 +46,8 @@ def unlock(out: Path, comm, created: bool = False) -> None:
     out = Path(out)
     if comm.rank != 0:
         return
-    if _owner(out / LOCK) == _me():
+    owner = _owner(out / LOCK)
+    if owner is not None and {k: owner[k] for k in ("pid", "host")} == _me():
         (out / LOCK).unlink(missing_ok=True)
     if created and not any(out.iterdir()):
         out.rmdir()
@@ -54,7 +57,7 @@ def _me() -> dict:
     return {"pid": os.getpid(), "host": socket.gethostname()}
 
 
-def _lock(out: Path) -> bool:
+def _lock(out: Path, command: str = "") -> bool:
     if out.exists() and not out.is_dir():
         raise OutDirError(f"--out {out} is not a directory")
     created = not out.exists()
@@ -72,12 +75,13 @@ def _lock(out: Path) -> bool:
                 pid = owner["pid"] if owner else "unknown"
                 where = "" if owner is None or owner["host"] == socket.gethostname() else f" on {owner['host']}"
                 raise OutDirError(f"--out {out} is in use by another run (pid {pid}{where})") from None
+            record_killed(out, owner, lock)
             lock.unlink(missing_ok=True)  # a killed run's lock
             continue
         except OSError as err:
             raise OutDirError(f"--out {out}: cannot write there ({err.strerror})") from None
         with os.fdopen(fd, "w") as f:
-            json.dump(_me(), f)
+            json.dump({**_me(), "command": command}, f)
         _clear_leftovers(out)
         return created
     raise OutDirError(f"--out {out} is in use by another run")
@@ -94,12 +98,58 @@ def _clear_leftovers(out: Path) -> None:
 
 
 def _owner(lock: Path) -> dict | None:
-    """The pid and host in a lock file; None if it is unreadable (e.g. being written)."""
+    """The pid, host and command in a lock file; None if it is unreadable (e.g. being written)."""
     try:
         owner = json.loads(lock.read_text())
-        return {"pid": int(owner["pid"]), "host": str(owner["host"])}
+        return {"pid": int(owner["pid"]), "host": str(owner["host"]), "command": str(owner.get("command", ""))}
     except (OSError, ValueError, KeyError, TypeError):
         return None
+
+
+def record_killed(out: Path, owner: dict | None, lock: Path) -> dict | None:
+    """Write the summary of the run that held ``lock`` and was killed before it wrote its own
+    (its ``summary.json`` missing or older than the lock): ``status: killed``, its command and
+    the rows it kept in ``branch.csv``. Returns that summary, or None if the run had finished."""
+    from bcfem import io
+
+    summary, rows = out / "summary.json", out / "branch.csv"
+    try:
+        if summary.exists() and summary.stat().st_mtime >= lock.stat().st_mtime:
+            return None  # it finished, and was stopped only before removing its lock
+    except OSError:
+        pass
+    kept = [_keep_fields(tmp) for tmp in out.glob(f".*.{owner['pid']}.tmp.bp")] if owner else []
+    steps = 0
+    if rows.exists():
+        with open(rows, newline="") as f:
+            steps = max(sum(1 for line in f if line.strip()) - 1, 0)
+    who = f"pid {owner['pid']} on {owner['host']}" if owner else "a run"
+    command = (owner or {}).get("command", "")
+    words = command.split()
+    record = {"scene": words[1] if len(words) > 1 else None, "status": "killed",
+              "error": f"{who} ended without writing its summary (killed: SIGKILL, the out-of-memory killer or "
+                       f"a lost node); its {steps} accepted rows are in branch.csv",
+              "command": command, "steps": steps,
+              "files": sorted({"summary.json", *(["branch.csv"] if rows.exists() else []), *kept})}
+    io.write_json(summary, record, _Rank0())
+    return record
+
+
+def _keep_fields(tmp: Path) -> str:
+    """A killed run's VTX directory (``.<name>.<pid>.tmp.bp``) under its own name: ADIOS2's BP4
+    engine writes each step's index as the step ends, so it holds every accepted step."""
+    name = tmp.name.removeprefix(".").split(".")[0] + ".bp"
+    target = tmp.with_name(name)
+    if target.is_dir() and not target.is_symlink():
+        shutil.rmtree(target)
+    os.replace(tmp, target)
+    return name
+
+
+class _Rank0:
+    """The communicator of a file written here: rank 0 of one (the lock is rank 0's)."""
+
+    rank = 0
 
 
 def _alive(owner: dict) -> bool:
@@ -138,3 +188,29 @@ def remove_stale(out: Path, previous: list[str], current: list[str]) -> None:
             shutil.rmtree(path)
         else:
             path.unlink()
+
+
+def status(out: Path) -> tuple[str, int]:
+    """What ``out`` holds (rank 0): (one line, exit code 0; 1 for a run that failed, was killed
+    or interrupted; 2 for no run there). A killed run's summary is written on the way
+    (:func:`record_killed`)."""
+    out = Path(out)
+    lock = out / LOCK
+    if lock.exists():
+        owner = _owner(lock)
+        if owner is None or _alive(owner):
+            pid = owner["pid"] if owner else "unknown"
+            return f"{out}: running (pid {pid}{'' if owner is None else ' on ' + owner['host']})", 0
+        killed = record_killed(out, owner, lock)
+        lock.unlink(missing_ok=True)
+        _clear_leftovers(out)
+        if killed is not None:
+            return f"{out}: killed: {killed['error']}", 1
+    try:
+        summary = json.loads((out / "summary.json").read_text())
+    except (OSError, ValueError):
+        return f"{out}: no bcfem run here", 2
+    line = f"{out}: {summary.get('scene')} {summary.get('status')}, {summary.get('steps', 0)} rows"
+    if summary.get("error"):
+        line += f": {summary['error']}"
+    return line, 0 if summary.get("status") == "ok" else 1

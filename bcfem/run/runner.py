@@ -79,11 +79,13 @@ class Run:
         summary: the run's ``summary.json``, set when the solve ends (:func:`solve`).
     """
 
-    def __init__(self, scene: Scene, comm, fields_path: Path | None = None):
+    def __init__(self, scene: Scene, comm, fields_path: Path | None = None, rows_path: Path | None = None):
         self.scene = scene
         self.comm = comm
         self.fields_path = fields_path
         self._writers: list = []
+        #: the rows on disk as they are accepted (``rows_path``), else None
+        self.journal = io.RowJournal(rows_path, columns.names(scene.columns), comm) if rows_path else None
         self.rows: list[dict] = []
         self.results: dict = {}
         self.petsc_options: dict[str, str] = {}
@@ -154,8 +156,10 @@ class Run:
             self._writers.append(io.FieldWriter(self.comm, path, group))
 
     def on_accept(self, row: dict) -> None:
-        """Write the watched fields of an accepted state (its time: the arc length, or the
-        row's index)."""
+        """Write an accepted state's row (with a rows path) and its watched fields (their time:
+        the arc length, or the row's index); a traced branch calls it with each row it keeps."""
+        if self.journal is not None:
+            self.journal.append(row)
         for writer in self._writers:
             writer.write(row.get("s", len(self.rows)))
 
@@ -165,15 +169,31 @@ class Run:
         self._writers = []
 
     def record(self, row: dict) -> None:
-        """Keep an accepted state's observables (and write its fields)."""
+        """Keep an accepted state's observables (on disk too, with a rows path), and write its
+        fields."""
         self.on_accept(row)
         self.rows.append(row)
+
+    def replace_last(self, row: dict) -> None:
+        """The last accepted row replaced by ``row`` (a state found past it, e.g. by bisection)."""
+        self.rows[-1] = row
+        if self.journal is not None:
+            self.journal.rewrite(self.rows)
+
+    def drop_last(self) -> dict:
+        """The last accepted row, taken out of the rows (a state the scene reports otherwise)."""
+        row = self.rows.pop()
+        if self.journal is not None:
+            self.journal.rewrite(self.rows)
+        return row
 
     def restart(self) -> None:
         """Forget the rows and results (a scene that traces its path again from the start)."""
         self.rows.clear()
         self.results.clear()
         self.stages.clear()
+        if self.journal is not None:
+            self.journal.rewrite([])
 
     def absorb(self, other: Run, label: str) -> None:
         """Count ``other``'s finished problems as this run's (a study of many runs): its Newton
@@ -193,21 +213,24 @@ class Run:
         for problem in list(self._problems):
             self.release(problem)
         self._close_writers()
+        if self.journal is not None:
+            self.journal.close()
 
 
 def solve(scene: Scene, comm, fields_path: Path | None = None,
-          started: tuple[float, jit.Tally] | None = None) -> tuple[Run, dict]:
+          started: tuple[float, jit.Tally] | None = None, rows_path: Path | None = None) -> tuple[Run, dict]:
     """Solve ``scene``; returns (the run, its summary). When the path cannot go on, raises
     :class:`SolveError` (with the run, whose ``summary`` says ``failed``); on a signal
     :class:`~bcfem.interrupt.Interrupted` (``status`` ``interrupted``, the run as its ``run``);
     on any other exception a :class:`SolveError` from it (``failed``, with the traceback).
-    With ``fields_path`` the fields the scene watches are written there (VTX). ``started``: the
+    With ``fields_path`` the fields the scene watches are written there (VTX), with ``rows_path``
+    the rows as they are accepted (:class:`bcfem.io.RowJournal`). ``started``: the
     clock and the JIT's tally when the scene began to be built (its wall time and compiles
     count from there; default: from here)."""
     jit.install()
     log.ensure(comm)
     t0, jit0 = started if started is not None else (time.perf_counter(), jit.tally())
-    run = Run(scene, comm, fields_path)
+    run = Run(scene, comm, fields_path, rows_path)
     status, error, raised = "ok", None, None
     try:
         scene.solve(run)
@@ -302,7 +325,7 @@ def solve_into(scene: Scene, out: Path, comm, plots: bool = True,
     failure = None
     with io.recording() as written:
         try:
-            solved, summary = solve(scene, comm, out / "fields.bp", started)
+            solved, summary = solve(scene, comm, out / "fields.bp", started, out / "branch.csv")
         except (SolveError, interrupt.Interrupted) as err:
             if err.run is None:
                 raise

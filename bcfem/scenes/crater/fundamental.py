@@ -131,7 +131,7 @@ class FundamentalCycle(CraterScene):
             sealing.advance(0.0, 1.0, 0.25)
         self._trace(run, self.arc, problem, "unload", cycle.sealed.sealed_volume, end=PLATEN_FORCE_ZERO,
                     direction=1)
-        cycle.final = run.rows.pop()
+        cycle.final = run.drop_last()
         cycle.zero_force, cycle.final_unstable = cycle.final["eps"], cycle.final["unstable"]
         return Ended(f"zero platen force at eps = {cycle.zero_force:.6g}")
 

@@ -189,7 +189,8 @@ class Crater:
             p = 1.0 - float(self.ctx.constant("vacuum_load").value)
         force = global_sum(self.platen_force) / A0 if self.platen_force is not None else None
         return {"stage": stage, "eps": eps, "V_over_V0": V / V0, "p_over_pa": p, "A_over_A0": A / A0,
-                "F_tilde": (1 - p) * A / A0, "platen_force": force, "V": V}
+                "F_tilde": (1 - p) * A / A0, "F_hat": (1 - p) * A / A0 / self.params.beta, "platen_force": force,
+                "V": V}
 
     @contextmanager
     def measuring(self, problem):

@@ -66,8 +66,6 @@ def finish(run, params: Params, model, cycle: Cycle, recorded: bool = False) -> 
     events, vapour = cycle.events, cycle.vapour
     if not recorded:
         run.record(final)
-    for row in run.rows:
-        row["F_hat"] = row["F_tilde"] / params.beta
     run.results.update({
         "F_tilde": final["F_tilde"], "F_hat": final["F_tilde"] / params.beta,
         "V1_over_V0": V1 / geometry.crater_volume,

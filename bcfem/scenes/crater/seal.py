@@ -31,7 +31,8 @@ class Sealing:
 
     def final_closed(self, model, preload: float) -> dict:
         """The cycle's last row for a crater that stays closed: no suction."""
-        return {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "A_over_A0": 0.0}
+        return {**model.observe("unload", preload, 0.0), "p_over_pa": 1.0, "F_tilde": 0.0, "F_hat": 0.0,
+                "A_over_A0": 0.0}
 
 
 def seal(model, V1: float, closes: bool, fluid: str, cavitates: bool) -> Sealing:

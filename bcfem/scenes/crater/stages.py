@@ -370,7 +370,7 @@ def load_to_closure(model, path: LoadPath, run, strain_step: float, bisections: 
     def passed(eps) -> bool:
         row = model.observe("load", eps)
         if closed(row):
-            run.rows[-1] = row  # the closed state kept is the first one found past eps_m
+            run.replace_last(row)  # the closed state kept is the first one found past eps_m
             return True
         return False
 
