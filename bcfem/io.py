@@ -13,6 +13,7 @@ and NaN as ``null``.
 from __future__ import annotations
 
 import csv
+import errno
 import json
 import math
 import os
@@ -24,6 +25,43 @@ from pathlib import Path
 from typing import TextIO
 
 _recorders: list[list[Path]] = []
+#: what a VTX step may write besides its arrays (ADIOS2's index and metadata), and what its
+#: close still writes
+VTX_MARGIN = 64 * 1024
+
+
+class DiskFull(RuntimeError):
+    """No space left on the device a run writes to: one line naming where."""
+
+
+def _disk_full(path: Path) -> DiskFull:
+    where = next((p for p in (path, *path.parents) if p.exists()), Path("."))
+    free = shutil.disk_usage(where).free
+    return DiskFull(f"no space left on the device of {where} ({free // 1024} kB free) writing {path.name}")
+
+
+@contextmanager
+def _space(path: Path):
+    """OSError ENOSPC or EDQUOT inside as :class:`DiskFull`."""
+    try:
+        yield
+    except OSError as err:
+        if err.errno in (errno.ENOSPC, errno.EDQUOT):
+            raise _disk_full(path) from None
+        raise
+
+
+def collectively(comm, write) -> None:
+    """``write()`` on every rank (it writes on rank 0); a :class:`DiskFull` there is raised on
+    every rank, so that no rank waits in a collective the others left."""
+    message = None
+    try:
+        write()
+    except DiskFull as err:
+        message = str(err)
+    message = comm.bcast(message)
+    if message is not None:
+        raise DiskFull(message)
 
 
 @contextmanager
@@ -50,15 +88,16 @@ def _umask() -> int:
 
 def _atomic_write(path: Path, write) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; results are for sharing
-    try:
-        with os.fdopen(fd, "w", newline="") as f:
-            write(f)
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
+    with _space(path):
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; results are for sharing
+        try:
+            with os.fdopen(fd, "w", newline="") as f:
+                write(f)
+            os.replace(tmp, path)
+        except BaseException:
+            os.unlink(tmp)
+            raise
     _record(path)
 
 
@@ -95,30 +134,50 @@ class RowJournal:
         self._writer: csv.DictWriter | None = None
 
     def rewrite(self, rows: list[dict]) -> None:
-        """The file holds ``rows`` alone (a header first)."""
+        """The file holds ``rows`` alone (a header first; collective)."""
+        collectively(self.comm, lambda: self._rewrite(rows))
+
+    def append(self, row: dict) -> None:
+        """``row`` added at the end of the file (collective). On a full disk the file keeps its
+        complete rows (the part of this one that was written is cut off) and every rank
+        raises :class:`DiskFull`."""
+        collectively(self.comm, lambda: self._append(row))
+
+    def _rewrite(self, rows: list[dict]) -> None:
         if self.comm.rank != 0:
             return
         self.close()
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file = file = open(self.path, "w", newline="")
-        self._writer = writer = csv.DictWriter(file, fieldnames=self.columns, extrasaction="ignore")
-        writer.writeheader()
-        for row in rows:
-            writer.writerow(_cells(row))
-        file.flush()
+        with _space(self.path):
+            self._file = file = open(self.path, "w", newline="")
+            self._writer = writer = csv.DictWriter(file, fieldnames=self.columns, extrasaction="ignore")
+            writer.writeheader()
+            for row in rows:
+                writer.writerow(_cells(row))
+            file.flush()
 
-    def append(self, row: dict) -> None:
+    def _append(self, row: dict) -> None:
         if self.comm.rank != 0:
             return
-        if self._file is None or self._writer is None:
-            self.rewrite([])
-        assert self._file is not None and self._writer is not None
         if not self.columns:  # the first row's keys, as write_csv takes them
             self.columns = list(row)
-            self.rewrite([])
-            assert self._file is not None and self._writer is not None
-        self._writer.writerow(_cells(row))
-        self._file.flush()
+        if self._file is None or self._writer is None:
+            self._rewrite([])
+        assert self._file is not None and self._writer is not None
+        end = self._file.tell()
+        try:
+            with _space(self.path):
+                self._writer.writerow(_cells(row))
+                self._file.flush()
+        except DiskFull:
+            os.ftruncate(self._file.fileno(), end)  # no half row on disk
+            try:
+                self._file.close()  # a part still buffered fails again: dropped with the file
+            except OSError:
+                pass
+            os.truncate(self.path, end)
+            self._file = None
+            raise
 
     def close(self) -> None:
         if self._file is not None:
@@ -185,8 +244,9 @@ def save_figure(fig, path, comm) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
     try:
-        fig.savefig(tmp, dpi=150, bbox_inches="tight")
-        os.replace(tmp, path)
+        with _space(path):
+            fig.savefig(tmp, dpi=150, bbox_inches="tight")
+            os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -211,11 +271,29 @@ class FieldWriter:
             shutil.rmtree(self.tmp)
         comm.barrier()
         self.writer = VTXWriter(comm, str(self.tmp), functions, engine="BP4")
+        self.closed = False
+        #: this rank's bytes of a step: the arrays and the mesh (geometry and topology, about
+        #: twice the geometry's), which VTX writes at every step
+        mesh = functions[0].function_space.mesh
+        self._step_bytes = sum(f.x.array.nbytes for f in functions) + 3 * mesh.geometry.x.nbytes
 
     def write(self, t: float) -> None:
+        """One step (collective). A step that might not fit the free space is not begun (ADIOS2
+        cannot recover from a failed write): the writer is closed with the steps written so far
+        (ADIOS2's margin, :data:`VTX_MARGIN`, is kept for that), and every rank raises
+        :class:`DiskFull`."""
+        need = self.comm.allreduce(self._step_bytes)
+        free = self.comm.bcast(shutil.disk_usage(self.tmp.parent).free if self.comm.rank == 0 else None)
+        if free < 2 * need + VTX_MARGIN:
+            self.close()
+            raise DiskFull(f"no space left on the device of {self.path.parent} ({free // 1024} kB free; a field step "
+                           f"needs about {need // 1024} kB)")
         self.writer.write(t)
 
     def close(self) -> None:
+        if self.closed:
+            return
+        self.closed = True
         self.writer.close()
         self.comm.barrier()
         if self.comm.rank == 0:

@@ -105,3 +105,81 @@ def test_the_row_journal_follows_replaced_rows_and_restarts(tmp_path):
     journal.rewrite([])
     journal.close()
     assert io.read_csv(path) == [] and path.read_text().strip() == "eps,V"
+
+
+TINY = ["run", "blister-rigid", "--material", "gent", "--Jm", "100", "--alpha", "0.5", "--v-max", "6", "--quiet"]
+
+
+def assert_ended_by_a_full_disk(out, code: int, stderr: str) -> dict:
+    """Exit 1 with one line naming the device; no temporary left; the rows accepted before are
+    on disk, whole, and the summary (where it fit) says failed."""
+    assert code == 1, stderr
+    assert len(stderr.strip().splitlines()) == 1 and "no space left on the device of" in stderr, stderr
+    assert "Traceback" not in stderr and not list(out.rglob("*tmp*")) and not list(out.glob(".*"))
+    rows = io.read_csv(out / "branch.csv")
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "failed" and summary["error"].startswith("no space left")
+    assert summary["steps"] == len(rows) and (out / "branch.csv").read_text().endswith("\n")
+    return summary
+
+
+@pytest.fixture
+def small_filesystem(tmp_path):
+    """A 300 kB tmpfs (root only: the test is skipped where mounting is not allowed)."""
+    where = tmp_path / "small"
+    where.mkdir()
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=300k", "tmpfs", str(where)], capture_output=True)
+    if mounted.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {mounted.stderr.decode().strip()}")
+    yield where
+    subprocess.run(["umount", str(where)], check=False)
+
+
+def test_a_full_filesystem_ends_the_run_with_one_line(small_filesystem):
+    out = small_filesystem / "run"
+    done = bcfem(*TINY, "--out", out)
+    summary = assert_ended_by_a_full_disk(out, done.returncode, done.stderr)
+    assert 1 <= summary["steps"] and "fields.bp" in summary["files"]  # the steps that fit are kept
+
+
+def test_a_write_that_fails_for_space_keeps_whole_rows(tmp_path, monkeypatch):
+    """An injected ENOSPC in the middle of a row: the journal cuts the half row off and raises
+    DiskFull; a CSV, JSON or PNG written atomically leaves no temporary."""
+    import errno
+
+    journal = io.RowJournal(tmp_path / "branch.csv", ["eps", "V"], MPI.COMM_SELF)
+    journal.append({"eps": 0.1, "V": 1.0})
+
+    def no_space(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    def half_a_row(row):  # what a write got out before the device filled
+        journal._file.write("0.2,0.")
+        journal._file.flush()
+        no_space()
+
+    monkeypatch.setattr(journal._writer, "writerow", half_a_row)
+    with pytest.raises(io.DiskFull, match="no space left on the device of"):
+        journal.append({"eps": 0.2, "V": 0.5})
+    assert (tmp_path / "branch.csv").read_text() == "eps,V\n0.1,1.0\n"
+    monkeypatch.setattr(io.os, "replace", no_space)
+    with pytest.raises(io.DiskFull):
+        io.write_json(tmp_path / "summary.json", {"status": "ok"}, MPI.COMM_SELF)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["branch.csv"]
+
+
+def test_fields_stop_before_the_disk_is_full(tmp_path, monkeypatch, capsys):
+    """With less free space than a VTX step needs, the run ends with a full-disk status before
+    ADIOS2 writes the step (ADIOS2 aborts the process on a failed write)."""
+    import shutil
+    from collections import namedtuple
+
+    from bcfem import cli
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(io.shutil, "disk_usage", lambda path: usage(1 << 20, 1 << 20, 16 * 1024))
+    out = tmp_path / "run"
+    code = cli.main([*TINY, "--out", str(out)])
+    monkeypatch.setattr(io.shutil, "disk_usage", shutil.disk_usage)
+    summary = assert_ended_by_a_full_disk(out, code, capsys.readouterr().err)
+    assert summary["steps"] == 0

@@ -35,7 +35,7 @@ from bcfem.run.stages import Scene
 from bcfem.solver.problem import TIMED, Problem
 
 #: what a scene raises when its path cannot go on (the converged part is kept)
-SolveErrors = (ContinuationError, SteppingError)
+SolveErrors = (ContinuationError, SteppingError, io.DiskFull)
 #: more unknowns than this make a run warn that it will take minutes (on a few cores)
 LARGE_PROBLEM_DOFS = 200_000
 
@@ -331,13 +331,24 @@ def solve_into(scene: Scene, out: Path, comm, plots: bool = True,
                 raise
             failure, solved, summary = err, err.run, err.run.summary
         with interrupt.deferred():  # the results of a signalled run are written all the same
-            io.write_csv(out / "branch.csv", solved.rows, comm, columns.names(scene.columns))
-            for name, table in scene.tables(solved.rows, summary).items():  # the scene's declared tables
-                io.write_csv(out / name, table, comm)
-            if plots and comm.rank == 0 and solved.rows:
-                for name, fig in scene.figures(solved.rows, summary).items():
-                    io.save_figure(fig, out / name, comm)
-            _write_summary(out, summary, written, previous, comm)
+            def results() -> None:
+                io.write_csv(out / "branch.csv", solved.rows, comm, columns.names(scene.columns))
+                for name, table in scene.tables(solved.rows, summary).items():  # the scene's declared tables
+                    io.write_csv(out / name, table, comm)
+                if plots and comm.rank == 0 and solved.rows:
+                    for name, fig in scene.figures(solved.rows, summary).items():
+                        io.save_figure(fig, out / name, comm)
+                _write_summary(out, summary, written, previous, comm)
+
+            try:
+                io.collectively(comm, results)
+            except io.DiskFull as err:  # the rows accepted so far stay in branch.csv
+                summary.update(status="failed", error=str(err))
+                try:  # a short summary may still fit
+                    io.collectively(comm, lambda: _write_summary(out, summary, written, previous, comm))
+                except io.DiskFull:
+                    pass
+                failure = SolveError(str(err), solved)
     if isinstance(failure, interrupt.Interrupted):
         raise failure
     if failure is not None:

@@ -12,6 +12,7 @@ from typing import Any
 
 from bcfem.columns import Column
 from bcfem.params import ContinuationParams
+from bcfem.path.branch import Branch
 from bcfem.path.terminations import Described, Termination
 from bcfem.physics.context import Context
 from bcfem.run.stages import Ended, Stage, StagedScene
@@ -74,6 +75,8 @@ class BranchScene(StagedScene):
     summarize: Callable[[object], dict] | None = None
     params: Any = None
     columns: Sequence[Column] | None = None
+    #: the traced branch (None until the trace ends)
+    _branch: Branch | None = field(default=None, init=False, repr=False)
 
     stages = ("branch",)
 
@@ -134,7 +137,7 @@ class BranchScene(StagedScene):
         from bcfem.run.trace import trace
 
         try:
-            branch, _ = trace(self, run.on_accept, run, arc=self._arc, problem=problem)
+            branch, _ = trace(self, run.record, run, arc=self._arc, problem=problem)
         except ContinuationError as err:
             self._report(run, err.branch)
             raise
@@ -159,7 +162,8 @@ class BranchScene(StagedScene):
         """The scene's ``plots`` of the branch, limit points marked."""
         from bcfem.plots import branch_figure
 
-        return {name: branch_figure(self._branch, x, y, xl, yl, title=self.name)
+        branch = self._branch or Branch(rows=list(rows))  # a trace that stopped: the rows it kept
+        return {name: branch_figure(branch, x, y, xl, yl, title=self.name)
                 for name, (x, y, xl, yl) in self.plots.items()}
 
 
