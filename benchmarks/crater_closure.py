@@ -88,6 +88,10 @@ ABAQUS = {"element": "q1p0", "bottom": "contact", "surface_energy": 0.0, "self_c
 #: the section 25.40 mm wide: the specimen's diameter taken as the axisymmetric model's radius
 WIDE = {"specimen_radius": 25.4}
 
+#: the width study: the section's radius in crater radii a, its height scaled with it from the
+#: dissertation's section (25.40 x 35.13 mm)
+A, WIDTHS, HEIGHT_OVER_WIDTH = 6.35, (2, 4, 6, 8, 16), 35.13 / 25.40
+
 #: name -> (what changes, parameters, model class or None, eps_c too)
 VARIANTS = {
     "default": ("bcfem's default: P2-P1, bottom held, self-contact, gamma/(mu a) = 0.01, size_crater 0.06",
@@ -113,6 +117,11 @@ VARIANTS = {
     "radius-25.4-crater-12.7": ("specimen radius 25.40 mm and crater radius 12.70 mm (both diameters "
                                 "as radii)", {**WIDE, "crater_radius": 12.7}, None, True),
     "radius-38.1": ("specimen radius 38.10 mm (6 a)", {"specimen_radius": 38.1}, None, True),
+    "dissertation": ("--specimen dissertation: 25.40 mm (4 a), Q1-P0", {"specimen": "dissertation"}, None, True),
+    **{f"width-{n}a{tag}": (f"width {n} a, height {HEIGHT_OVER_WIDTH:.4g} times it{label}",
+                            {"specimen_radius": round(n * A, 4), "specimen_height": round(HEIGHT_OVER_WIDTH * n * A, 4), **extra},
+                            None, True)
+       for n in WIDTHS for tag, label, extra in (("", ", P2-P1", {}), ("-q1p0", ", Q1-P0", {"element": "q1p0"}))},
 }
 COLUMNS = ["variant", "change", "status", "eps_m", "F_tilde", "eps_c", "last_eps", "wall_time_s", "command",
            "error"]
