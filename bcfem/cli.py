@@ -120,9 +120,9 @@ def _run(parser, args, module, params, comm) -> int:
             raise
         except runner.SolveError as err:
             internal = "traceback" in err.run.summary
-            disk = str(err).startswith("no space left")
+            plain = str(err).startswith("no space left") or "out of memory" in str(err)  # no solver at fault
             _say(comm, f"{name}: {err}; the traceback is in summary.json" if internal else
-                 f"{name}: {err}" if disk else f"{name}: solver failed: {err}")
+                 f"{name}: {err}" if plain else f"{name}: solver failed: {err}")
             return 1
     if args.profile and comm.rank == 0:
         print(_profile(summary))

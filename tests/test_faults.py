@@ -183,3 +183,42 @@ def test_fields_stop_before_the_disk_is_full(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(io.shutil, "disk_usage", shutil.disk_usage)
     summary = assert_ended_by_a_full_disk(out, code, capsys.readouterr().err)
     assert summary["steps"] == 0
+
+
+@pytest.mark.slow
+def test_a_factorisation_past_its_memory_stops_the_run_with_one_line(tmp_path):
+    """MUMPS refuses a factorisation larger than ICNTL(23) MB per rank (bcfem sets it to what
+    the rank has left; here the user's 2 MB): the run ends at once, exit 1, one line with
+    MUMPS's estimate, instead of cutting its step or being killed."""
+    out = tmp_path / "cell"
+    done = bcfem("run", "crater-cell", "--preload", "0.0125", "--quiet", "--no-plots", "--out", out,
+                 "-mat_mumps_icntl_23", "2")
+    assert done.returncode == 1 and len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert "out of memory: the factorisation needs about" in done.stderr and "INFOG(1) = -19" in done.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "failed" and summary["failed_solves"] <= 1, summary["error"]
+
+
+@pytest.mark.study
+def test_a_cell_past_ulimit_v_stops_before_the_kernel_kills_it(tmp_path):
+    """The #53 cell (66k dofs, MUMPS about 545 MB) under ``ulimit -v`` 3 GB: the factorisation's
+    allocation fails inside MUMPS, and the run ends with its estimate (machine-dependent: the
+    limit must sit between the process's size and its size plus the factors)."""
+    import resource
+
+    def limited():
+        resource.setrlimit(resource.RLIMIT_AS, (3 * 10**9, 3 * 10**9))
+
+    out = tmp_path / "cell"
+    cmd = [str(BIN / "bcfem"), "run", "crater-cell", "--filling", "0.0490873852", "--preload", "0.0125",
+           "--size-wall", "0.15", "--size-rim", "0.05", "--size-far", "0.4", "--quiet", "--no-plots", "--out", str(out)]
+    done = subprocess.run(cmd, capture_output=True, text=True, preexec_fn=limited, timeout=600)
+    assert done.returncode == 1 and "out of memory" in done.stderr, done.stderr[-2000:]
+
+
+def test_the_users_mumps_options_reach_mumps(tmp_path):
+    """MUMPS reads its options at its analysis, after the problem's options left the database:
+    ``-mat_mumps_icntl_4 2`` (MUMPS's diagnostics) must still reach it."""
+    done = bcfem("run", "blister-rigid", "--cells", "20", "--v-max", "0.5", "--quiet", "--no-plots",
+                 "--out", tmp_path / "run", "-mat_mumps_icntl_4", "2")
+    assert done.returncode == 0 and "MUMPS" in done.stdout + done.stderr

@@ -32,10 +32,11 @@ from bcfem.path.continuation import ContinuationError
 from bcfem.path.stepping import SteppingError
 from bcfem.run import outdir
 from bcfem.run.stages import Scene
+from bcfem.solver.memory import OutOfMemory
 from bcfem.solver.problem import TIMED, Problem
 
 #: what a scene raises when its path cannot go on (the converged part is kept)
-SolveErrors = (ContinuationError, SteppingError, io.DiskFull)
+SolveErrors = (ContinuationError, SteppingError, io.DiskFull, OutOfMemory)
 #: more unknowns than this make a run warn that it will take minutes (on a few cores)
 LARGE_PROBLEM_DOFS = 200_000
 

@@ -84,3 +84,19 @@ def untouched():
             if after.get(key) != value:
                 opts.setValue(key, value)
                 opts.getString(key)  # it was read before: PETSc must not report it unused
+
+
+@contextmanager
+def inserted(prefix: str, values: dict):
+    """``values`` in PETSc's database under ``prefix`` inside (those not there already), for a
+    solver that reads them late: MUMPS reads its ``mat_mumps_*`` options at each analysis, long
+    after the problem's options were set from the database and taken out again."""
+    opts = PETSc.Options()
+    added = [key for key in values if not opts.hasName(prefix + key)]
+    for key in added:
+        opts[prefix + key] = values[key]
+    try:
+        yield
+    finally:
+        for key in added:
+            opts.delValue(prefix + key)

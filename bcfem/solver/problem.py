@@ -22,7 +22,7 @@ from bcfem import interrupt, jit
 from bcfem.log import logger
 from bcfem.mpi import global_sum
 from bcfem.physics.protocols import DiscreteTerm, total_energy
-from bcfem.solver import fieldsplit, options, petsc_events, pivots
+from bcfem.solver import fieldsplit, memory, options, petsc_events, pivots
 from bcfem.solver.algebra import ConvergedAlgebra
 from bcfem.solver.assembly import Assembly
 from bcfem.solver.fieldsplit import FieldSplit
@@ -89,6 +89,13 @@ class Problem(ConvergedAlgebra):
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
         self.options = options.merge(prefix, petsc_options or {})
+        #: MB each rank's MUMPS may use (ICNTL(23): what the rank has left, :mod:`.memory`, or the
+        #: user's), None without MUMPS
+        self.memory_limit: int | None = None
+        if self.options.get("pc_factor_mat_solver_type") == "mumps":
+            self.options.setdefault("mat_mumps_icntl_23",
+                                    str(max(int(memory.SHARE * memory.available_mb(ctx.mesh.comm)), 1)))
+            self.memory_limit = int(self.options["mat_mumps_icntl_23"])
         with options.untouched():
             self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
                                          petsc_options_prefix=prefix, petsc_options=self.options,
@@ -260,6 +267,9 @@ class Problem(ConvergedAlgebra):
                 self.rejections += 1
                 self.last_rejection = self.inadmissible
         if not ok:
+            short = memory.shortage(self.snes.getKSP().getPC(), self.memory_limit)
+            if short is not None:  # no smaller step helps: the run ends here
+                raise memory.OutOfMemory(f"{self.prefix}: {short}")
             # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
             self.snes.getKSP().getPC().reset()
         return ok
@@ -294,7 +304,8 @@ class Problem(ConvergedAlgebra):
         assembled = self.timings["assembly"] + self.timings["discrete_terms"]
         solver = petsc_events.seconds()
         try:
-            with interrupt.deferred():  # a raise in a callback would be a failed solve
+            # MUMPS reads its options at each analysis: they must be in the database then
+            with interrupt.deferred(), options.inserted(self.prefix, self._mumps_options):
                 self.snes.solve(None, x)
             self.reason = int(self.snes.getConvergedReason())
         except PETSc.Error:
@@ -367,6 +378,10 @@ class Problem(ConvergedAlgebra):
             pc.setOptionsPrefix(self.prefix + "reduced_")
             inner = fieldsplit.reduced_inner_ksp(self, self.field_split)
             pc.setPythonContext(ReducedLU(self.snes, "", self.prefix, inner=inner))
+
+    @property
+    def _mumps_options(self) -> dict:
+        return {key: value for key, value in self.options.items() if key.startswith("mat_mumps_")}
 
     def energy(self) -> float:
         """The Lagrangian at the current states, summed over the ranks (collective; its form
