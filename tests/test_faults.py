@@ -185,29 +185,44 @@ def test_fields_stop_before_the_disk_is_full(tmp_path, monkeypatch, capsys):
     assert summary["steps"] == 0
 
 
+def test_a_factorisation_past_the_ranks_memory_is_refused_before_it_starts(tmp_path, monkeypatch, capsys):
+    """Before its first factorisation a problem asks MUMPS's analysis for its estimate and
+    compares it with what each rank may use: with 1 MB left the run ends at once, exit 1, one line
+    with the estimate, no Newton step taken."""
+    from bcfem import cli
+    from bcfem.solver import memory
+
+    monkeypatch.setattr(memory, "available_mb", lambda comm: 1)
+    out = tmp_path / "cell"
+    code = cli.main(["run", "crater-cell", "--preload", "0.0125", "--quiet", "--no-plots", "--out", str(out)])
+    stderr = capsys.readouterr().err
+    assert code == 1 and len(stderr.strip().splitlines()) == 1, stderr
+    assert "out of memory: the factorisation needs about" in stderr and "each rank has about 1 MB left" in stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "failed" and summary["newton_iterations"] == 0
+
+
 @pytest.mark.slow
-def test_a_factorisation_past_its_memory_stops_the_run_with_one_line(tmp_path):
-    """MUMPS refuses a factorisation larger than ICNTL(23) MB per rank (bcfem sets it to what
-    the rank has left; here the user's 2 MB): the run ends at once, exit 1, one line with
-    MUMPS's estimate, instead of cutting its step or being killed."""
+def test_a_factorisation_mumps_refuses_for_memory_stops_the_run(tmp_path):
+    """A factorisation that fails for memory all the same (here past the user's ICNTL(23) of
+    2 MB) ends the run with MUMPS's reason instead of cutting the step."""
     out = tmp_path / "cell"
     done = bcfem("run", "crater-cell", "--preload", "0.0125", "--quiet", "--no-plots", "--out", out,
                  "-mat_mumps_icntl_23", "2")
     assert done.returncode == 1 and len(done.stderr.strip().splitlines()) == 1, done.stderr
-    assert "out of memory: the factorisation needs about" in done.stderr and "INFOG(1) = -19" in done.stderr
-    summary = json.loads((out / "summary.json").read_text())
-    assert summary["status"] == "failed" and summary["failed_solves"] <= 1, summary["error"]
+    assert "more than ICNTL(23) allows (MUMPS INFOG(1) = -19)" in done.stderr
+    assert json.loads((out / "summary.json").read_text())["failed_solves"] <= 1
 
 
 @pytest.mark.study
 def test_a_cell_past_ulimit_v_stops_before_the_kernel_kills_it(tmp_path):
-    """The #53 cell (66k dofs, MUMPS about 545 MB) under ``ulimit -v`` 3 GB: the factorisation's
-    allocation fails inside MUMPS, and the run ends with its estimate (machine-dependent: the
-    limit must sit between the process's size and its size plus the factors)."""
+    """The #53 cell (66k dofs, MUMPS about 545 MB) under ``ulimit -v`` 1.7 GB: refused before the
+    factorisation (machine-dependent: the limit must sit between the process's size and its size
+    plus the factors)."""
     import resource
 
     def limited():
-        resource.setrlimit(resource.RLIMIT_AS, (3 * 10**9, 3 * 10**9))
+        resource.setrlimit(resource.RLIMIT_AS, (17 * 10**8, 17 * 10**8))
 
     out = tmp_path / "cell"
     cmd = [str(BIN / "bcfem"), "run", "crater-cell", "--filling", "0.0490873852", "--preload", "0.0125",

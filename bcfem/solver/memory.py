@@ -1,11 +1,16 @@
 """A factorisation that would not fit in memory stops the run with a message, not the kernel.
 
-MUMPS estimates its memory in the analysis, before it allocates the factors (INFOG(16): the
-most any process needs, INFOG(17): all of them, in MB), and refuses to go past ICNTL(23) MB per
-process with INFOG(1) = -19. bcfem sets ICNTL(23) to what each rank may still use (the node's
-available memory shared by the ranks on it, a cgroup's limit, ``ulimit -v``), unless the user set
-it; a factorisation refused for memory (-19, or -9/-13 for an allocation that failed) is then a
-:class:`OutOfMemory`, which ends the run (exit 1) instead of being cut into smaller steps.
+MUMPS estimates its memory in its analysis, before it allocates the factors (INFOG(16): the
+most one process needs, INFOG(17): all of them, in MB). Before a problem's first factorisation
+:func:`check` runs that analysis alone (a probe capped at 1 MB by ICNTL(23), which MUMPS refuses
+to factorise with INFOG(1) = -19 once it has estimated) and compares the estimate with what each
+rank may still use: the node's available memory over the ranks on it, a cgroup's headroom,
+``ulimit -v``'s headroom. A factorisation past it is an :class:`OutOfMemory` (the run ends,
+exit 1) before anything is allocated; past half of it, a warning. A factorisation that still
+fails for memory (INFOG(1) -9, -13, -19) is one too (:func:`shortage`).
+
+ICNTL(23) is not set for the real factorisation: MUMPS then reserves its whole value up front
+(address space, not resident memory), which ``ulimit -v`` counts.
 """
 
 from __future__ import annotations
@@ -21,8 +26,9 @@ from petsc4py import PETSc
 #: (-9), an allocation failed (-13), more than ICNTL(23) allows (-19)
 SHORT = (-9, -13, -19)
 #: of the memory a rank may use, this share is left to MUMPS (the rest: PETSc's matrices,
-#: dolfinx's forms, Python)
+#: dolfinx's forms, Python); past half of it a warning
 SHARE = 0.8
+WARN = 0.5
 
 
 class OutOfMemory(RuntimeError):
@@ -93,17 +99,57 @@ def factor_of(pc: PETSc.PC) -> PETSc.Mat | None:
     return None
 
 
-def shortage(pc: PETSc.PC, limit_mb: int | None) -> str | None:
+def shortage(pc: PETSc.PC) -> str | None:
     """Why ``pc``'s factorisation failed for memory (collective: every rank gets rank 0's
     answer), or None if it did not."""
     factor = factor_of(pc)
-    message = None
     code = factor.getMumpsInfog(1) if factor is not None else 0
+    message = None
     if factor is not None and code in SHORT:
-        per_rank, total = factor.getMumpsInfog(16), factor.getMumpsInfog(17)
-        why = (f"more than the {limit_mb} MB each rank may use (ICNTL(23))" if code == -19 and limit_mb else
-               "and an allocation failed: the rank had less (ulimit -v, a cgroup or the node's memory)")
-        message = (f"out of memory: the factorisation needs about {per_rank} MB on its largest rank ({total} MB "
-                   f"in all, MUMPS's estimate), {why}; use fewer unknowns, more ranks or nodes, or an "
-                   f"iterative solver (-pc_type fieldsplit); MUMPS INFOG(1) = {code}")
+        why = {-9: "its working array was too small", -13: "an allocation failed",
+               -19: "that is more than ICNTL(23) allows"}[code]
+        message = (f"out of memory: the factorisation needs about {factor.getMumpsInfog(16)} MB on its largest rank "
+                   f"({factor.getMumpsInfog(17)} MB in all, MUMPS's estimate) and {why} "
+                   f"(MUMPS INFOG(1) = {code}); {ADVICE}")
     return pc.comm.tompi4py().bcast(message)
+
+
+ADVICE = "use fewer unknowns, more ranks or nodes, or an iterative solver (-pc_type fieldsplit)"
+
+
+def estimate_mb(A: PETSc.Mat, prefix: str, factor: str, options: dict) -> tuple[int, int]:
+    """MUMPS's estimate for factorising ``A`` (``factor``: lu or cholesky) with the problem's
+    MUMPS ``options``: (MB on the largest rank, MB in all), from its analysis alone (collective)."""
+    from bcfem.solver.options import inserted
+
+    probe = prefix + "memory_probe_"
+    ksp = PETSc.KSP().create(A.getComm())
+    try:
+        ksp.setOptionsPrefix(probe)
+        ksp.setType("preonly")
+        pc = ksp.getPC()
+        pc.setType(factor)
+        pc.setFactorSolverType("mumps")
+        ksp.setOperators(A)
+        with inserted(probe, {**options, "mat_mumps_icntl_23": 1}):  # estimate, then refuse
+            ksp.setFromOptions()
+            ksp.setUp()
+        F = pc.getFactorMatrix()
+        return int(F.getMumpsInfog(16)), int(F.getMumpsInfog(17))
+    finally:
+        ksp.destroy()
+
+
+def check(A: PETSc.Mat, prefix: str, factor: str, options: dict, comm) -> str | None:
+    """Raise :class:`OutOfMemory` if MUMPS's estimate for ``A`` exceeds what the ranks may use
+    (:data:`SHARE` of :func:`available_mb`); return a warning past :data:`WARN` of it, else None
+    (collective)."""
+    per_rank, total = estimate_mb(A, prefix, factor, options)
+    available = available_mb(comm)
+    line = (f"the factorisation needs about {per_rank} MB on its largest rank ({total} MB in all, MUMPS's estimate) "
+            f"and each rank has about {available} MB left")
+    if per_rank > SHARE * available:
+        raise OutOfMemory(f"out of memory: {line}; {ADVICE}")
+    if per_rank > WARN * available:
+        return f"warning: {line}: close to the limit"
+    return None

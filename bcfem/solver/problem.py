@@ -89,13 +89,8 @@ class Problem(ConvergedAlgebra):
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
         self.options = options.merge(prefix, petsc_options or {})
-        #: MB each rank's MUMPS may use (ICNTL(23): what the rank has left, :mod:`.memory`, or the
-        #: user's), None without MUMPS
-        self.memory_limit: int | None = None
-        if self.options.get("pc_factor_mat_solver_type") == "mumps":
-            self.options.setdefault("mat_mumps_icntl_23",
-                                    str(max(int(memory.SHARE * memory.available_mb(ctx.mesh.comm)), 1)))
-            self.memory_limit = int(self.options["mat_mumps_icntl_23"])
+        #: whether MUMPS's memory estimate was compared with the ranks' memory (:mod:`.memory`)
+        self.memory_checked = False
         with options.untouched():
             self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
                                          petsc_options_prefix=prefix, petsc_options=self.options,
@@ -227,6 +222,22 @@ class Problem(ConvergedAlgebra):
             self.failed_solves += 1
         return ok
 
+    def _check_memory(self) -> None:
+        """Before the first factorisation, MUMPS's estimate against the ranks' memory (once: the
+        sparsity stays along a path; :func:`.memory.check`)."""
+        if self.memory_checked:
+            return
+        self.memory_checked = True
+        if self.options.get("pc_type") not in ("lu", "cholesky") or \
+                self.options.get("pc_factor_mat_solver_type") != "mumps":
+            return  # no MUMPS factorisation (an iterative solver, another direct one)
+        A, _ = self.jacobian()
+        factor = "cholesky" if self.symmetric_tangent else "lu"
+        with self.timed("factorisation"):
+            warning = memory.check(A, self.prefix, factor, self._mumps_options, self.comm)
+        if warning:
+            logger.warning(f"{self.prefix}: {warning}")
+
     def _newton(self) -> bool:
         x = self._nlp.x
         assign(self.states, x)
@@ -267,7 +278,7 @@ class Problem(ConvergedAlgebra):
                 self.rejections += 1
                 self.last_rejection = self.inadmissible
         if not ok:
-            short = memory.shortage(self.snes.getKSP().getPC(), self.memory_limit)
+            short = memory.shortage(self.snes.getKSP().getPC())
             if short is not None:  # no smaller step helps: the run ends here
                 raise memory.OutOfMemory(f"{self.prefix}: {short}")
             # a failed factorisation (e.g. of a NaN Jacobian) would otherwise stick to the PC
@@ -300,6 +311,7 @@ class Problem(ConvergedAlgebra):
         self._first_norm = None
         for term in self.discrete:
             term.begin_solve()
+        self._check_memory()  # the discrete terms' tangents are set up by now
         t0 = perf_counter()
         assembled = self.timings["assembly"] + self.timings["discrete_terms"]
         solver = petsc_events.seconds()
