@@ -101,3 +101,27 @@ def test_kept_inertia_matches_a_fresh_count_and_analyses_a_new_pattern_again():
         A.destroy()
     finally:
         kept.close()
+
+
+def test_the_users_unprefixed_mumps_options_reach_the_inertia_count():
+    """``-mat_mumps_icntl_14 77`` (more workspace) applies to every MUMPS factorisation, the
+    stability count's under its own prefix too; bcfem's ICNTL(13) = 1 (a global inertia) stays."""
+    from petsc4py import PETSc
+
+    import numpy as np
+
+    from bcfem.stability.inertia import Inertia
+
+    opts = PETSc.Options()
+    opts["mat_mumps_icntl_14"] = 77
+    inertia = Inertia("test_users_mumps_")
+    A = _tridiagonal(np.array([1.0, -2.0, 3.0, -4.0]), 0.01)
+    try:
+        assert inertia.negative(A) == 2
+        factor = inertia._ksp.getPC().getFactorMatrix()
+        assert factor.getMumpsIcntl(14) == 77 and factor.getMumpsIcntl(13) == 1
+        assert not opts.hasName("test_users_mumps_mat_mumps_icntl_14")  # nothing left behind
+    finally:
+        opts.delValue("mat_mumps_icntl_14")
+        inertia.close()
+        A.destroy()

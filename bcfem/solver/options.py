@@ -100,3 +100,10 @@ def inserted(prefix: str, values: dict):
     finally:
         for key in added:
             opts.delValue(prefix + key)
+
+
+def users_mumps() -> dict:
+    """The user's unprefixed ``mat_mumps_*`` options (``-mat_mumps_icntl_14 50``): they apply to
+    every MUMPS factorisation, the stability counts' too (under their own prefixes a user's
+    prefixed option still wins)."""
+    return {key: value for key, value in PETSc.Options().getAll().items() if key.startswith("mat_mumps_")}

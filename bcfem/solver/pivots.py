@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from petsc4py import PETSc
 
+from bcfem.solver import options
+
 #: MUMPS options of the count: detect null pivots rather than fail or divide by them
 _OPTIONS = (("mat_mumps_icntl_24", 1),)
 
@@ -31,7 +33,8 @@ def null_pivots(A: PETSc.Mat, prefix: str) -> int:
         pc.setFactorSolverType("mumps")
         ksp.setOperators(A)
         ksp.setFromOptions()
-        ksp.setUp()  # the factorisation; MUMPS reads its options here
+        with options.inserted(prefix, options.users_mumps()):
+            ksp.setUp()  # the factorisation; MUMPS reads its options here
         return int(pc.getFactorMatrix().getMumpsInfog(28))
     finally:
         ksp.destroy()

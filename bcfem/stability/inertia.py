@@ -21,6 +21,7 @@ from petsc4py import PETSc
 
 import numpy as np
 
+from bcfem.solver import options
 from bcfem.solver.kept_copy import KeptCopy
 
 
@@ -115,7 +116,8 @@ class Inertia:
             ksp = self._create(A)
         try:
             ksp.setOperators(A)  # new values: a numerical factorisation only
-            ksp.setUp()  # MUMPS reads its options at the analysis
+            with options.inserted(self.prefix, options.users_mumps()):
+                ksp.setUp()  # MUMPS reads its options at the analysis
         except PETSc.Error:
             self.close()  # a failed factorisation would otherwise stick to the PC
             raise
