@@ -56,6 +56,7 @@ bench: venv
 	$(BIN)/python benchmarks/crater_double.py
 	$(BIN)/python benchmarks/crater_double_exchange.py
 	$(BIN)/python benchmarks/crater_cell.py
+	$(BIN)/python benchmarks/assembly_limit.py
 	$(BIN)/python benchmarks/blister_soft.py
 	$(BIN)/python benchmarks/blister_soft_delamination.py
 	$(BIN)/python benchmarks/blister_soft_dgamma_step.py
