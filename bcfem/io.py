@@ -170,13 +170,12 @@ class RowJournal:
                 self._writer.writerow(_cells(row))
                 self._file.flush()
         except DiskFull:
-            os.ftruncate(self._file.fileno(), end)  # no half row on disk
             try:
                 self._file.close()  # a part still buffered fails again: dropped with the file
             except OSError:
                 pass
-            os.truncate(self.path, end)
             self._file = None
+            os.truncate(self.path, end)  # no half row on disk
             raise
 
     def close(self) -> None:

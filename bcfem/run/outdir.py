@@ -17,6 +17,8 @@ import shutil
 import socket
 from pathlib import Path
 
+from mpi4py import MPI
+
 LOCK = ".bcfem.lock"
 
 
@@ -131,7 +133,7 @@ def record_killed(out: Path, owner: dict | None, lock: Path) -> dict | None:
                        f"a lost node); its {steps} accepted rows are in branch.csv",
               "command": command, "steps": steps,
               "files": sorted({"summary.json", *(["branch.csv"] if rows.exists() else []), *kept})}
-    io.write_json(summary, record, _Rank0())
+    io.write_json(summary, record, MPI.COMM_SELF)  # the lock, and so this file, is rank 0's
     return record
 
 
@@ -144,12 +146,6 @@ def _keep_fields(tmp: Path) -> str:
         shutil.rmtree(target)
     os.replace(tmp, target)
     return name
-
-
-class _Rank0:
-    """The communicator of a file written here: rank 0 of one (the lock is rank 0's)."""
-
-    rank = 0
 
 
 def _alive(owner: dict) -> bool:
