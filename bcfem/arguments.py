@@ -143,6 +143,16 @@ def _words_or(words: dict, convert):
 
 
 @functools.cache  # one parser per process: building it takes 50 ms
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not value >= 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"{text!r}: give a finite number of seconds >= 0")
+    return value
+
+
 def build_parser():
     from bcfem.scenes import REGISTRY
 
@@ -164,6 +174,12 @@ def build_parser():
                        help="draw the PNGs (matplotlib is loaded only to draw them)")
         p.add_argument("--profile", action="store_true",
                        help="print where the wall time went (also in summary.json: time_split_s)")
+        p.add_argument("--resume", action="store_true",
+                       help="continue the killed, interrupted or failed run in --out from its last checkpoint "
+                            "(on any number of ranks; the same parameters); from the start if it has none")
+        p.add_argument("--checkpoint-every", type=_seconds, default=60.0, metavar="SECONDS",
+                       help="write a checkpoint at a load path's fixed steps at most this often, in seconds "
+                            ">= 0 (0: at every one; default 60); a run that ends ok removes them")
     status = sub.add_parser("status", help="what the run in a results directory did: finished, failed, "
                             "interrupted, killed (its rows kept), or running")
     status.add_argument("dir", type=Path, help="the run's --out directory")
@@ -186,6 +202,9 @@ def build_parser():
         p.add_argument("--quiet", action="store_true")
         p.add_argument("--retry-failed", action="store_true",
                        help="solve again the points a previous run recorded as failed (else they are kept)")
+        p.add_argument("--checkpoint-every", type=_seconds, default=60.0, metavar="SECONDS",
+                       help="write a checkpoint of the point being solved at most this often, in seconds >= 0 "
+                            "(default 60); a rerun goes on from a killed point's last one")
         if not studies.FIT_TARGETS:  # no inverse problem for this scene
             continue
         p = fits.add_parser(name, help="inverse parameter extraction", description=module.DESCRIPTION,

@@ -99,9 +99,15 @@ def _run(parser, args, module, params, comm) -> int:
     import time
 
     from bcfem import interrupt, jit
-    from bcfem.run import runner
+    from bcfem.path.checkpoint import ResumeError
+    from bcfem.run import resume, runner
     name = f"bcfem run {args.scene}"
     with _locked(parser, args, comm):
+        try:  # before any meshing: a checkpoint of another run is bad input
+            checkpoints = resume.checkpoints_of(args.out, args.scene, dataclasses.asdict(params), comm,
+                                                args.checkpoint_every, args.resume)
+        except ResumeError as err:
+            parser.exit(2, f"{name}: error: {err}\n" if comm.rank == 0 else "")
         jit.install()
         started = (time.perf_counter(), jit.tally())  # the wall time and compiles count from the build
         try:
@@ -113,7 +119,8 @@ def _run(parser, args, module, params, comm) -> int:
             _say(comm, f"{name}: {summary['error']} (the traceback is in {args.out / 'summary.json'})")
             return 1
         try:
-            summary = runner.solve_into(scene, args.out, comm, plots=args.plots, started=started)
+            summary = runner.solve_into(scene, args.out, comm, plots=args.plots, started=started,
+                                        checkpoints=checkpoints)
         except interrupt.Interrupted as err:
             if err.run is None:  # before the solve began: still a status on disk
                 runner.write_unsolved(args.out, args.scene, params, err, comm)
@@ -160,7 +167,8 @@ def _sweep(parser, args, module, params, comm) -> int:
     with _locked(parser, args, comm):
         if comm.rank == 0:
             sweep.clear_claims(args.out)
-        rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm, retry_failed=args.retry_failed)
+        rows = sweep.run(points, studies.SWEEP["solve"], args.out, comm, retry_failed=args.retry_failed,
+                         checkpoint_every=args.checkpoint_every)
         title = f"{args.scene}: {studies.SWEEP['title']}"
         # one-value axes are constants; an axis of words is a set of curves or maps, not drawn
         varying = [name for name, values in axes if len(values) > 1]

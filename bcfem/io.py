@@ -34,20 +34,20 @@ class DiskFull(RuntimeError):
     """No space left on the device a run writes to: one line naming where."""
 
 
-def _disk_full(path: Path) -> DiskFull:
+def disk_full(path: Path) -> DiskFull:
     where = next((p for p in (path, *path.parents) if p.exists()), Path("."))
     free = shutil.disk_usage(where).free
     return DiskFull(f"no space left on the device of {where} ({free // 1024} kB free) writing {path.name}")
 
 
 @contextmanager
-def _space(path: Path):
+def space_checked(path: Path):
     """OSError ENOSPC or EDQUOT inside as :class:`DiskFull`."""
     try:
         yield
     except OSError as err:
         if err.errno in (errno.ENOSPC, errno.EDQUOT):
-            raise _disk_full(path) from None
+            raise disk_full(path) from None
         raise
 
 
@@ -75,7 +75,7 @@ def recording():
         _recorders.remove(written)
 
 
-def _record(path: Path) -> None:
+def note_written(path: Path) -> None:
     for written in _recorders:
         written.append(path)
 
@@ -88,7 +88,7 @@ def _umask() -> int:
 
 def _atomic_write(path: Path, write) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
-    with _space(path):
+    with space_checked(path):
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; results are for sharing
         try:
@@ -98,7 +98,7 @@ def _atomic_write(path: Path, write) -> None:
         except BaseException:
             os.unlink(tmp)
             raise
-    _record(path)
+    note_written(path)
 
 
 def write_csv(path, rows: list[dict], comm, columns: Sequence[str] | None = None) -> None:
@@ -148,7 +148,7 @@ class RowJournal:
             return
         self.close()
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        with _space(self.path):
+        with space_checked(self.path):
             self._file = file = open(self.path, "w", newline="")
             self._writer = writer = csv.DictWriter(file, fieldnames=self.columns, extrasaction="ignore")
             writer.writeheader()
@@ -166,7 +166,7 @@ class RowJournal:
         assert self._file is not None and self._writer is not None
         end = self._file.tell()
         try:
-            with _space(self.path):
+            with space_checked(self.path):
                 self._writer.writerow(_cells(row))
                 self._file.flush()
         except DiskFull:
@@ -196,11 +196,13 @@ def read_csv(path) -> list[dict]:
         return [{k: convert(v) for k, v in row.items()} for row in csv.DictReader(f)]
 
 
-def write_json(path, data: dict, comm) -> None:
-    """Write ``data`` as indented, strict JSON on rank 0 (see the module's note)."""
+def write_json(path, data: dict, comm, exact: bool = False) -> None:
+    """Write ``data`` as indented, strict JSON on rank 0 (see the module's note); ``exact``:
+    as Python reads it back, NaN and infinities included (a file only bcfem reads)."""
     if comm.rank != 0:
         return
-    text = json.dumps(strict(data), indent=2, allow_nan=False)  # a regression fails here, loudly
+    text = json.dumps(data, indent=1, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)) if exact else \
+        json.dumps(strict(data), indent=2, allow_nan=False)  # a regression fails here, loudly
     _atomic_write(Path(path), lambda f: f.write(text))
 
 
@@ -243,13 +245,13 @@ def save_figure(fig, path, comm) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
     try:
-        with _space(path):
+        with space_checked(path):
             fig.savefig(tmp, dpi=150, bbox_inches="tight")
             os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
-    _record(path)
+    note_written(path)
 
 
 class FieldWriter:
@@ -299,5 +301,5 @@ class FieldWriter:
             if self.path.exists():
                 shutil.rmtree(self.path)
             os.replace(self.tmp, self.path)
-            _record(self.path)
+            note_written(self.path)
         self.comm.barrier()

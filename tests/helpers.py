@@ -2,14 +2,47 @@
 
 import math
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
 
 BIN = Path(sys.executable).parent
+
+
+def rows_on_disk(out) -> list[dict]:
+    """The rows of ``out/branch.csv`` (none if it is not there)."""
+    from bcfem import io
+
+    return io.read_csv(out / "branch.csv") if (out / "branch.csv").exists() else []
+
+
+def killed(args, out, after: int, ranks: int = 1, rank: int | None = None) -> int:
+    """Run ``bcfem ARGS --out out`` and SIGKILL it (all its ranks, or only ``rank``) once
+    ``branch.csv`` holds ``after`` rows; returns the rows on disk then."""
+    from test_run_contract import rank_pids
+
+    cmd = [str(BIN / "bcfem"), *map(str, args), "--out", str(out)]
+    if ranks > 1:
+        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}"}
+    process = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    deadline = time.monotonic() + 300
+    while len(rows_on_disk(out)) < after:
+        assert process.poll() is None and time.monotonic() < deadline, "the run ended before it was killed"
+        time.sleep(0.01)
+    if ranks == 1:
+        process.kill()
+    else:
+        pids = rank_pids(process.pid)
+        for r in (pids if rank is None else [rank]):
+            os.kill(pids[r], signal.SIGKILL)
+    process.wait(timeout=120)
+    return len(rows_on_disk(out))
 
 
 def bcfem(*args, ranks: int = 1, timeout: float = 600, env: dict | None = None) -> subprocess.CompletedProcess:

@@ -4,15 +4,12 @@ directory) records it as ``killed``."""
 
 import json
 import os
-import signal
 import subprocess
-import time
 
 from mpi4py import MPI
 
 import pytest
-from helpers import BIN, bcfem
-from test_run_contract import rank_pids
+from helpers import BIN, bcfem, killed, rows_on_disk
 
 from bcfem import io
 
@@ -20,30 +17,6 @@ pytestmark = pytest.mark.serial
 #: a crater cycle of about 35 accepted states, killed after its 10th
 CYCLE = ["run", "crater", "--preload", "0.3", "--no-plots", "--quiet"]
 KILLED_AFTER = 10
-
-
-def rows_on_disk(out) -> list[dict]:
-    return io.read_csv(out / "branch.csv") if (out / "branch.csv").exists() else []
-
-
-def killed(out, ranks: int = 1, rank: int | None = None) -> int:
-    """Run ``bcfem CYCLE --out out`` and SIGKILL it (or one of its ranks) once ``branch.csv``
-    holds KILLED_AFTER rows; returns the rows on disk then."""
-    cmd = [str(BIN / "bcfem"), *CYCLE, "--out", str(out)]
-    if ranks > 1:
-        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
-    env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}"}
-    process = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
-    deadline = time.monotonic() + 300
-    while len(rows_on_disk(out)) < KILLED_AFTER:
-        assert process.poll() is None and time.monotonic() < deadline, "the run ended before it was killed"
-        time.sleep(0.02)
-    if rank is None:
-        process.kill()
-    else:
-        os.kill(rank_pids(process.pid)[rank], signal.SIGKILL)
-    process.wait(timeout=120)
-    return len(rows_on_disk(out))
 
 
 @pytest.fixture(scope="module")
@@ -58,7 +31,7 @@ def uninterrupted(tmp_path_factory):
 @pytest.mark.parametrize("ranks, rank", [(1, None), (2, 1)], ids=["process", "one-of-two-ranks"])
 def test_a_killed_run_keeps_its_rows_and_is_recorded_killed(tmp_path, uninterrupted, ranks, rank):
     out = tmp_path / "killed"
-    kept = killed(out, ranks, rank)
+    kept = killed(CYCLE, out, KILLED_AFTER, ranks, rank)
     rows = rows_on_disk(out)
     assert KILLED_AFTER <= kept < len(uninterrupted)
     for mine, theirs in zip(rows, uninterrupted):  # the accepted rows, as an uninterrupted run has them

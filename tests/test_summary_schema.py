@@ -6,7 +6,8 @@ from mpi4py import MPI
 
 import pytest
 
-from bcfem.run.runner import solve, time_split
+from bcfem.run.runner import solve
+from bcfem.run.summary import time_split
 from bcfem.scenes import REGISTRY
 from bcfem.solver.problem import TIMED
 

@@ -31,6 +31,7 @@ import operator
 import time
 from collections.abc import Callable, Mapping
 from functools import reduce
+from typing import Any
 
 import numpy as np
 import ufl
@@ -242,7 +243,7 @@ class ArcLength:
         self._set_hyperplane(problem, *self._start_row)
 
     def trace(self, problem, observe, end, progress_keys=(), on_accept=None, guard=None,
-              switches=(), direction: int = 1) -> Branch:
+              switches=(), direction: int = 1, kept=()) -> Branch:
         """Follow the branch; see :meth:`_trace`. A :class:`ContinuationError` carries
         the converged part of the branch as ``error.branch``. ``direction=-1`` starts
         against the start's tangent (e.g. towards smaller volumes)."""
@@ -250,7 +251,7 @@ class ArcLength:
         self._direction = direction
         t0 = time.perf_counter()
         try:
-            return self._trace(problem, observe, end, progress_keys, on_accept, guard, switches)
+            return self._trace(problem, observe, end, progress_keys, on_accept, guard, switches, kept)
         except ContinuationError as error:
             error.branch = self._partial
             error.branch.wall_time_s = time.perf_counter() - t0
@@ -258,7 +259,7 @@ class ArcLength:
 
     def _trace(self, problem, observe: Callable[[], dict], end: Callable[[dict], float],
               progress_keys: tuple[str, ...] = (), on_accept: Callable[[dict], None] | None = None,
-              guard: Callable[[dict], str | None] | None = None, switches=()) -> Branch:
+              guard: Callable[[dict], str | None] | None = None, switches=(), kept=()) -> Branch:
         """Follow the branch from the current converged state until ``end(values)`` crosses zero.
 
         Args:
@@ -272,27 +273,40 @@ class ArcLength:
                 range (e.g. a locking Gent membrane); the trace then stops with it.
             switches: :class:`Switch` events (each fires at most once). If the end
                 and a switch fall in the same step, the end wins.
+            kept: the observers in ``on_accept`` whose state a checkpoint keeps
+                (:class:`bcfem.path.checkpoint.Kept`).
+
+        With the problem's checkpoints (a run's), the trace writes a checkpoint after accepted
+        points (:meth:`_resume` goes on from one in a resumed run).
         """
         p = self.params
         t0 = time.perf_counter()
         branch = self._partial
-        s = 0.0
-        values = {**observe(), "s": s}
-        base = problem.save()
-        tangent = [self._direction * t for t in self._tangent(problem)]
-        if end(values) >= 0:
-            raise ContinuationError("the branch starts beyond its end point")
         pending = list(switches)
-        for switch in [sw for sw in pending if sw.function(values) >= 0]:
-            # already past the switch at the start: change the model there
-            pending.remove(switch)
-            branch.events.append({"name": switch.name, **values})
-            tangent = self._switch(problem, switch)
-            base, values = problem.save(), {**observe(), "s": s}
-        self._record(branch, values, on_accept)
-        ds = p.ds
+        keeper: Any = getattr(problem, "checkpoints", None)  # a stand-in problem may have none
+        key = keeper.key() if keeper is not None else None
+        saved = keeper.read(key, problem.states) if keeper is not None else None
+        if saved is not None:  # a resumed run: on from this trace's last checkpoint
+            base, tangent, values, s, ds, first = self._resume(problem, saved, branch, pending, kept)
+            keeper.jump(saved)
+            self._record(branch, values, on_accept)  # its row again, and the callers' counts
+            keeper.landed(saved, values, saved.record["values"], branch.rows)
+        else:
+            s, ds, first = 0.0, p.ds, 1
+            values = {**observe(), "s": s}
+            base = problem.save()
+            tangent = [self._direction * t for t in self._tangent(problem)]
+            if end(values) >= 0:
+                raise ContinuationError("the branch starts beyond its end point")
+            for switch in [sw for sw in pending if sw.function(values) >= 0]:
+                # already past the switch at the start: change the model there
+                pending.remove(switch)
+                branch.events.append({"name": switch.name, **values})
+                tangent = self._switch(problem, switch)
+                base, values = problem.save(), {**observe(), "s": s}
+            self._record(branch, values, on_accept)
         il = self._index(problem)[1]
-        for step in range(1, p.max_steps + 1):
+        for step in range(first, p.max_steps + 1):
             ds, new_tangent = self._step(problem, base, tangent, ds, branch, step, values, progress_keys)
             its = max(problem.iterations, 1)
             new_values = {**observe(), "s": s + ds}
@@ -347,10 +361,44 @@ class ArcLength:
             # the step cap grows with the load, so unbounded loads (locking) are reached in few steps
             cap = p.ds_max * min(1e3, max(1.0, abs(float(base[il][0])) / self.load_scale))
             ds = min(cap, ds * min(2.0, max(0.5, p.target_iterations / its)))
+            if keeper is not None and keeper.due():
+                record = {"s": s, "ds": ds, "step": step, "values": values, "fired": [sw.name for sw in switches
+                                                                                      if sw not in pending],
+                          "limit_points": [vars(lp) for lp in branch.limit_points], "events": branch.events,
+                          "branch_rows": branch.rows, "failed_steps": branch.failed_steps,
+                          "newton_iterations": branch.newton_iterations, "jumps": self.jumps,
+                          "unlocated": self.unlocated, "kept": []}
+                vectors = [base, tangent]
+                for observer in kept:
+                    entry, more = observer.checkpoint(problem)
+                    record["kept"].append({"record": entry, "vectors": len(more)})
+                    vectors += more
+                keeper.write(key, problem.states, vectors, record)
         else:
             raise ContinuationError(f"max_steps = {p.max_steps} reached before the end point")
         branch.wall_time_s = time.perf_counter() - t0
         return branch
+
+    def _resume(self, problem, saved, branch, pending, kept):
+        """Back to a checkpoint of :meth:`_trace`: the states, the branch's record, the switches
+        that fired (their actions again, in order) and the kept observers' states. Returns
+        (base, tangent, values, s, ds, the next step)."""
+        record, vectors = saved.record, saved.vectors
+        for switch in [sw for sw in list(pending) if sw.name in record["fired"]]:
+            pending.remove(switch)
+            switch.action()
+        problem.restore(vectors[0])
+        branch.rows[:] = record["branch_rows"][:-1]
+        branch.limit_points[:] = [LimitPoint(**lp) for lp in record["limit_points"]]
+        branch.events[:] = record["events"]
+        branch.failed_steps, branch.newton_iterations = record["failed_steps"], record["newton_iterations"]
+        self.jumps, self.unlocated = record["jumps"], record["unlocated"]
+        rest = vectors[2:]
+        for observer, entry in zip(kept, record["kept"]):
+            observer.resume(problem, entry["record"], rest[: entry["vectors"]])
+            rest = rest[entry["vectors"]:]
+        return (problem.save(), vectors[1], dict(record["values"]), record["s"], record["ds"],
+                record["step"] + 1)
 
     def _step(self, problem, base, tangent, ds, branch, step, values, progress_keys):
         """Predictor-corrector from ``base``; a failed step is halved and retried.

@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from bcfem import jit
 from bcfem.log import progress
@@ -205,12 +205,39 @@ class LoadPath:
             stopped = bool(on_accept(value)) if on_accept else False
             return stopped
 
+        keeper: Any = getattr(self.problem, "checkpoints", None)  # a stand-in problem may have none
+        key = keeper.key() if keeper is not None else None
+        saved = keeper.read(key, self.problem.states) if keeper is not None else None
+        if saved is not None:  # a resumed run: on from this path's last checkpoint
+            current, k = self._resume(saved.record, saved.vectors[0])
+            keeper.jump(saved)
+            accept(current)  # its row again (checked against the stored one) and the caller's marks
+            keeper.landed(saved)
         while (end - current) * sign > 1e-12 and not stopped:
             checkpoint = k * step
             target = checkpoint if (end - checkpoint) * sign > 1e-12 else end
             current = self.advance(current, target, abs(target - current), accept)
             k += int(sign)
+            if keeper is not None and not stopped and abs(current - target) <= 1e-12 * max(1.0, abs(target)) \
+                    and keeper.due():
+                keeper.write(key, self.problem.states, [self._saved], self._record(current, k))
         return current
+
+    def _record(self, value: float, k: int) -> dict:
+        """What a checkpoint keeps of the path at load ``value`` besides its states: enough to
+        go on as :meth:`through` would from there (``k``: the next checkpoint's index)."""
+        return {"stage": self.stage, "value": value, "k": k, "snaps": self.snaps, "unstable": self.unstable,
+                "waves": list(self.unstable_waves), "events": [dict(e) for e in self.events]}
+
+    def _resume(self, record: dict, states: list) -> tuple[float, int]:
+        """Back to a checkpoint's state and record (:meth:`_record`); returns (its load, k)."""
+        self.problem.restore(states)
+        self._saved, self._previous = self.problem.save(), None
+        self.set_load(record["value"])
+        self.snaps, self.unstable = record["snaps"], record["unstable"]
+        self.unstable_waves = tuple(record["waves"])
+        self.events[:] = record["events"]
+        return record["value"], record["k"]
 
     def bisect(self, before: dict, after: float, passed: Callable[[float], bool], bisections: int,
                end_before: bool = False) -> float:

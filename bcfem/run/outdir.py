@@ -148,6 +148,21 @@ def _keep_fields(tmp: Path) -> str:
     return name
 
 
+def keep_fields_part(out: Path) -> None:
+    """Before a resumed run writes ``fields.bp`` (its steps from its checkpoint on), keep the
+    killed run's as the next ``fields.part<k>.bp`` (rank 0; the VTX time is the row's index);
+    every part is the run's file."""
+    from bcfem import io
+
+    parts = sorted(out.glob("fields.part*.bp"))
+    for part in parts:
+        io.note_written(part)
+    if (out / "fields.bp").is_dir():
+        part = out / f"fields.part{len(parts) + 1}.bp"
+        os.replace(out / "fields.bp", part)
+        io.note_written(part)
+
+
 def _alive(owner: dict) -> bool:
     """Whether the lock's process may still run (on another host: it cannot be told)."""
     if owner["host"] != socket.gethostname():
@@ -160,7 +175,17 @@ def _alive(owner: dict) -> bool:
         return False
     except PermissionError:  # another user's live process
         return True
-    return True
+    return not _zombie(owner["pid"])
+
+
+def _zombie(pid: int) -> bool:
+    """Whether ``pid`` has ended and waits to be reaped (a container's first process may never
+    reap a killed run's orphans): it holds no file any more."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat.rsplit(")", 1)[-1].split()[:1] in (["Z"], ["X"])
 
 
 def files_of_last_run(out: Path) -> list[str]:

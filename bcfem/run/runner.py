@@ -28,15 +28,17 @@ from pathlib import Path
 
 from bcfem import columns, interrupt, io, jit, log
 from bcfem.log import logger
+from bcfem.path.checkpoint import Checkpoints, ResumeError, StageCheckpoints
 from bcfem.path.continuation import ContinuationError
 from bcfem.path.stepping import SteppingError
-from bcfem.run import outdir
+from bcfem.run import outdir, resume
 from bcfem.run.stages import Scene
+from bcfem.run.summary import summary_of
 from bcfem.solver.memory import OutOfMemory
 from bcfem.solver.problem import TIMED, Problem
 
 #: what a scene raises when its path cannot go on (the converged part is kept)
-SolveErrors = (ContinuationError, SteppingError, io.DiskFull, OutOfMemory)
+SolveErrors = (ContinuationError, SteppingError, io.DiskFull, OutOfMemory, ResumeError)
 #: more unknowns than this make a run warn that it will take minutes (on a few cores)
 LARGE_PROBLEM_DOFS = 200_000
 
@@ -54,17 +56,6 @@ def _parameters(params) -> dict:
     return asdict(params) if is_dataclass(params) and not isinstance(params, type) else {}
 
 
-def versions() -> dict:
-    from petsc4py import PETSc
-
-    import dolfinx
-
-    import bcfem
-
-    return {"bcfem": bcfem.__version__, "dolfinx": dolfinx.__version__,
-            "petsc": "{}.{}.{}".format(*PETSc.Sys.getVersion())}
-
-
 class Run:
     """The record of one solve of a scene.
 
@@ -80,8 +71,11 @@ class Run:
         summary: the run's ``summary.json``, set when the solve ends (:func:`solve`).
     """
 
-    def __init__(self, scene: Scene, comm, fields_path: Path | None = None, rows_path: Path | None = None):
+    def __init__(self, scene: Scene, comm, fields_path: Path | None = None, rows_path: Path | None = None,
+                 checkpoints: Checkpoints | None = None):
         self.scene = scene
+        #: the run's checkpoints (None: none written)
+        self.checkpoints = checkpoints
         self.comm = comm
         self.fields_path = fields_path
         self._writers: list = []
@@ -111,6 +105,8 @@ class Run:
     def problem(self, stage: str, ctx, terms, bcs, petsc_options=None, **kwargs) -> Problem:
         """The problem of ``stage`` (closed by :meth:`close` or :meth:`stage`)."""
         problem = Problem(ctx, terms, bcs, self.prefix(stage), petsc_options, **kwargs)
+        if self.checkpoints is not None:
+            problem.checkpoints = StageCheckpoints(self.checkpoints, stage, self.rows, self._resumed)
         self.petsc_options.update({problem.prefix + k: str(v) for k, v in problem.options.items()})
         dofs = problem.global_size(problem.names)
         if dofs > LARGE_PROBLEM_DOFS >= self.dofs:
@@ -156,9 +152,23 @@ class Run:
             path = self.fields_path if k == 0 else self.fields_path.with_name(f"fields_{group[0].name}.bp")
             self._writers.append(io.FieldWriter(self.comm, path, group))
 
+    @property
+    def resuming(self) -> bool:
+        """Whether the run is resumed and not yet past its last checkpoint: its rows up to there
+        are on disk, and its fields are written from there."""
+        return self.checkpoints is not None and self.checkpoints.resuming
+
+    def _resumed(self, rows: list[dict]) -> None:
+        """Past the last checkpoint: ``rows`` are on disk, and the run writes from there."""
+        if self.journal is not None:
+            self.journal.rewrite(rows)
+
     def on_accept(self, row: dict) -> None:
         """Write an accepted state's row (with a rows path) and its watched fields (their time:
-        the arc length, or the row's index); a traced branch calls it with each row it keeps."""
+        the arc length, or the row's index); a traced branch calls it with each row it keeps.
+        Nothing is written before a resumed run passes its last checkpoint."""
+        if self.resuming:
+            return
         if self.journal is not None:
             self.journal.append(row)
         for writer in self._writers:
@@ -178,13 +188,13 @@ class Run:
     def replace_last(self, row: dict) -> None:
         """The last accepted row replaced by ``row`` (a state found past it, e.g. by bisection)."""
         self.rows[-1] = row
-        if self.journal is not None:
+        if self.journal is not None and not self.resuming:
             self.journal.rewrite(self.rows)
 
     def drop_last(self) -> dict:
         """The last accepted row, taken out of the rows (a state the scene reports otherwise)."""
         row = self.rows.pop()
-        if self.journal is not None:
+        if self.journal is not None and not self.resuming:
             self.journal.rewrite(self.rows)
         return row
 
@@ -193,7 +203,7 @@ class Run:
         self.rows.clear()
         self.results.clear()
         self.stages.clear()
-        if self.journal is not None:
+        if self.journal is not None and not self.resuming:
             self.journal.rewrite([])
 
     def absorb(self, other: Run, label: str) -> None:
@@ -219,7 +229,8 @@ class Run:
 
 
 def solve(scene: Scene, comm, fields_path: Path | None = None,
-          started: tuple[float, jit.Tally] | None = None, rows_path: Path | None = None) -> tuple[Run, dict]:
+          started: tuple[float, jit.Tally] | None = None, rows_path: Path | None = None,
+          checkpoints: Checkpoints | None = None) -> tuple[Run, dict]:
     """Solve ``scene``; returns (the run, its summary). When the path cannot go on, raises
     :class:`SolveError` (with the run, whose ``summary`` says ``failed``); on a signal
     :class:`~bcfem.interrupt.Interrupted` (``status`` ``interrupted``, the run as its ``run``);
@@ -227,14 +238,20 @@ def solve(scene: Scene, comm, fields_path: Path | None = None,
     With ``fields_path`` the fields the scene watches are written there (VTX), with ``rows_path``
     the rows as they are accepted (:class:`bcfem.io.RowJournal`). ``started``: the
     clock and the JIT's tally when the scene began to be built (its wall time and compiles
-    count from there; default: from here)."""
+    count from there; default: from here). With ``checkpoints`` its paths write checkpoints (and a
+    resumed run goes on from them); a run that ends ok removes them."""
     jit.install()
     log.ensure(comm)
     t0, jit0 = started if started is not None else (time.perf_counter(), jit.tally())
-    run = Run(scene, comm, fields_path, rows_path)
+    owned = checkpoints is not None  # else a sweep point's, which the sweep removes (:func:`checkpointed`)
+    checkpoints = checkpoints if owned else resume.point_checkpoints()
+    run = Run(scene, comm, fields_path, rows_path, checkpoints)
     status, error, raised = "ok", None, None
     try:
         scene.solve(run)
+        if checkpoints is not None and checkpoints.resuming:
+            logger.warning(f"warning: the resumed run never reached its last checkpoint "
+                           f"({checkpoints.latest_key}); its rows are from the start")
     except SolveErrors as err:
         status, error = "failed", str(err)
     except (Exception, interrupt.Interrupted) as err:
@@ -251,6 +268,10 @@ def solve(scene: Scene, comm, fields_path: Path | None = None,
     run.summary = summary_of(run, scene.name, _parameters(scene.params), status, error, (t0, jit0),
                              trace_text="".join(traceback.format_exception(raised))
                              if status == "failed" and raised else None)
+    if checkpoints is not None:
+        run.summary["resumed_from"] = checkpoints.latest_key
+        if status == "ok" and owned:
+            checkpoints.remove()
     if isinstance(raised, interrupt.Interrupted):
         raised.run = run
         raise raised
@@ -259,65 +280,19 @@ def solve(scene: Scene, comm, fields_path: Path | None = None,
     return run, run.summary
 
 
-def summary_of(run: Run, name: str, parameters: dict, status: str, error: str | None,
-               started: tuple[float, jit.Tally], trace_text: str | None = None) -> dict:
-    """The ``summary.json`` of ``run`` (one schema for every scene and study): its status, the
-    parameters, what it found (``run.results``), its stages and columns, the counts of its
-    problems, the wall time from ``started`` (a clock and the JIT's tally) and its split, the
-    versions and the effective PETSc options (collective: the JIT's counts are summed)."""
-    t0, jit0 = started
-    wall = time.perf_counter() - t0
-    compiled = jit.tally() - jit0
-    return {
-        "scene": name,
-        "status": status,
-        "error": error,
-        **({"traceback": trace_text} if trace_text else {}),
-        "parameters": parameters,
-        **run.results,
-        "stages": run.stages,
-        "columns": columns.record(run.scene.columns),
-        "steps": len(run.rows),
-        "newton_solves": run.newton_solves,
-        "newton_iterations": run.newton_iterations,
-        "failed_solves": run.failed_solves,
-        "null_pivots": run.null_pivots,
-        "dofs": run.dofs,
-        "ranks": run.comm.size,
-        "wall_time_s": wall,
-        "time_split_s": time_split(run.timings, wall, compiled.seconds),
-        "jit": compiled.over(run.comm),
-        "versions": versions(),
-        "petsc_options": run.petsc_options,
-    }
-
-
 def solve_rows(scene: Scene, comm) -> tuple[list[dict], dict]:
     """:func:`solve` in memory: (the accepted rows, the summary)."""
     solved, summary = solve(scene, comm)
     return solved.rows, summary
 
 
-def time_split(timings: dict, wall: float, jit_s: float = 0.0) -> dict:
-    """Where a run's wall time went. Within Newton: form assembly, discrete terms
-    (self-contact), the direct solver's factorisations (analysis included) and its triangular
-    solves, and the rest of Newton (line search, active sets, reduced matrices, convergence
-    tests); then stability checks, the form compiler (compiling and loading forms, wherever
-    it ran), and everything else (meshing, observables, relaxation set-up, output)."""
-    split = {"assembly": timings["assembly"], "discrete_terms": timings["discrete_terms"],
-             "factorisation": timings["factorisation"], "linear_solve": timings["linear_solve"],
-             "newton_other": timings["newton"], "stability": timings["stability"], "jit": jit_s}
-    split["other"] = wall - sum(split.values())
-    return split
-
-
 def solve_into(scene: Scene, out: Path, comm, plots: bool = True,
-               started: tuple[float, jit.Tally] | None = None) -> dict:
+               started: tuple[float, jit.Tally] | None = None, checkpoints: Checkpoints | None = None) -> dict:
     """Solve ``scene`` and write ``out`` (also on failure or a signal, then raising
     :class:`SolveError` or :class:`~bcfem.interrupt.Interrupted` after writing), with the
     scene's PNGs unless ``plots`` is False; returns the summary. The summary's ``files``
-    lists what the run wrote; an earlier run's files not among them are removed. ``started``:
-    as :func:`solve`'s."""
+    lists what the run wrote; an earlier run's files not among them are removed. ``started`` and
+    ``checkpoints``: as :func:`solve`'s."""
     out = Path(out)
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
@@ -325,8 +300,10 @@ def solve_into(scene: Scene, out: Path, comm, plots: bool = True,
     comm.barrier()
     failure = None
     with io.recording() as written:
+        if checkpoints is not None and checkpoints.resuming and comm.rank == 0:
+            outdir.keep_fields_part(out)
         try:
-            solved, summary = solve(scene, comm, out / "fields.bp", started, out / "branch.csv")
+            solved, summary = solve(scene, comm, out / "fields.bp", started, out / "branch.csv", checkpoints)
         except (SolveError, interrupt.Interrupted) as err:
             if err.run is None:
                 raise
@@ -378,8 +355,10 @@ def write_unsolved(out: Path, name: str, params, error: BaseException, comm) -> 
 def _write_summary(out: Path, summary: dict, written: list[Path], previous: list[str], comm) -> None:
     """Write ``summary.json`` with the list of the run's files, and remove the files of the
     run before that are not among them (rank 0)."""
-    names = {str(p.relative_to(out)) for p in written if p.is_relative_to(out)}
-    summary["files"] = sorted(names | {"summary.json"})
+    names = {str(p.relative_to(out)) for p in written if p.is_relative_to(out)
+             and not p.is_relative_to(out / resume.FOLDER)}
+    kept = {resume.FOLDER} if comm.rank == 0 and (out / resume.FOLDER).is_dir() else set()
+    summary["files"] = sorted(names | kept | {"summary.json"})
     io.write_json(out / "summary.json", summary, comm)
     if comm.rank == 0:
         outdir.remove_stale(out, previous, summary["files"])

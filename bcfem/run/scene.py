@@ -75,6 +75,8 @@ class BranchScene(StagedScene):
     summarize: Callable[[object], dict] | None = None
     params: Any = None
     columns: Sequence[Column] | None = None
+    #: observers of the trace whose state a checkpoint keeps (:class:`bcfem.path.checkpoint.Kept`)
+    kept: tuple = ()
     #: the traced branch (None until the trace ends)
     _branch: Branch | None = field(default=None, init=False, repr=False)
 

@@ -6,7 +6,7 @@ counts them all: Newton solves and iterations, failed solves, null pivots, the l
 problem, the time split, the JIT and the effective options. A solve on the study's
 communicator is counted once; one on a rank's own (a pooled sweep's point,
 :func:`bcfem.run.sweep.run_pool`) is summed over the ranks. :meth:`Study.write` writes a
-``summary.json`` with the runner's schema (:func:`~bcfem.run.runner.summary_of`) and the
+``summary.json`` with the runner's schema (:func:`~bcfem.run.summary.summary_of`) and the
 study's own entries; a study that raises writes ``status: failed`` with the error.
 """
 
@@ -20,9 +20,10 @@ from mpi4py import MPI
 
 from bcfem import io, jit, log
 from bcfem.path.continuation import Branch, ContinuationError
-from bcfem.run.runner import Run, SolveError, solve, summary_of
+from bcfem.run.runner import Run, SolveError, solve
 from bcfem.run.scene import BranchScene
 from bcfem.run.stages import Scene
+from bcfem.run.summary import summary_of
 from bcfem.run.trace import trace
 
 

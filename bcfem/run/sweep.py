@@ -39,7 +39,9 @@ from bcfem import interrupt, io, jit
 from bcfem.log import logger
 
 #: kept in a point's record, not in sweep.csv (which depends on the results alone)
-RECORD_ONLY = {"budgets", "solve_time_s", "forms_compiled"}
+RECORD_ONLY = {"budgets", "solve_time_s", "forms_compiled", "resumed_from"}
+#: seconds between two checkpoints of a point's paths (a killed sweep resumes each point from its own)
+CHECKPOINT_EVERY = 60.0
 
 
 #: the most points one sweep may hold
@@ -170,18 +172,20 @@ def _rerun(row: dict, budgets: dict, retry_failed: bool) -> bool:
     return retry_failed or any(k not in recorded or v > recorded[k] for k, v in budgets.items())
 
 
-def run(points, solve_point, out: Path, comm, retry_failed: bool = False) -> list[dict]:
+def run(points, solve_point, out: Path, comm, retry_failed: bool = False,
+        checkpoint_every: float = CHECKPOINT_EVERY) -> list[dict]:
     """Solve ``points`` (from :func:`grid_points`) over the ranks of ``comm``; return all rows.
 
     Args:
         solve_point: ``solve_point(params, comm) -> dict`` of results for one point.
         retry_failed: solve again the points recorded as failed (else they are kept as
             they are: a failure is a result, and re-solving it can take long).
+        checkpoint_every: seconds between two checkpoints of a point's paths.
     """
-    return run_pool([(points, solve_point, out)], comm, retry_failed)[0]
+    return run_pool([(points, solve_point, out)], comm, retry_failed, checkpoint_every)[0]
 
 
-def run_pool(sweeps, comm, retry_failed: bool = False) -> list[list[dict]]:
+def run_pool(sweeps, comm, retry_failed: bool = False, checkpoint_every: float = CHECKPOINT_EVERY) -> list[list[dict]]:
     """Several sweeps, ``[(points, solve_point, out), ...]``, as one pool of points: a rank
     that finds no unclaimed point left in one sweep goes on to the next, rather than waiting
     for the slowest point of each. Each sweep's ``sweep.csv`` and ``timing.json`` are written
@@ -203,7 +207,7 @@ def run_pool(sweeps, comm, retry_failed: bool = False) -> list[list[dict]]:
             directory.mkdir()
     comm.barrier()
     own = comm.Split(color=comm.rank, key=0)
-    counts = [_solve_claimed(points, solve_point, out / "points", directory, own, retry_failed)
+    counts = [_solve_claimed(points, solve_point, out / "points", directory, own, retry_failed, checkpoint_every)
               for (points, solve_point, _), out, directory in zip(sweeps, outs, claims)]
     own.Free()
     with interrupt.deferred():  # a signal from here on: the flag only, so that no rank is left waiting
@@ -220,7 +224,7 @@ def run_pool(sweeps, comm, retry_failed: bool = False) -> list[list[dict]]:
                 for (points, _, _), out, directory, count in zip(sweeps, outs, claims, counts)]
 
 
-def _solve_claimed(points, solve_point, point_dir: Path, claims: Path, own, retry_failed: bool):
+def _solve_claimed(points, solve_point, point_dir: Path, claims: Path, own, retry_failed: bool, every: float):
     """The points of one sweep this rank claims first: (solved, reused, their solve seconds)."""
     done = skipped = 0
     seconds = 0.0
@@ -238,7 +242,7 @@ def _solve_claimed(points, solve_point, point_dir: Path, claims: Path, own, retr
             if path.exists() and not _rerun(io.read_json(path), budgets, retry_failed):
                 skipped += 1  # finished before
                 continue
-            row = _solve_point(values, params, solve_point, budgets, own)
+            row = _solve_point(values, params, solve_point, budgets, own, point_dir / f"{key}.checkpoint", every)
             seconds += row["solve_time_s"]
             io.write_json(path, row, own)
             done += 1
@@ -248,20 +252,35 @@ def _solve_claimed(points, solve_point, point_dir: Path, claims: Path, own, retr
     return done, skipped, seconds
 
 
-def _solve_point(values: dict, params, solve_point, budgets: dict, own) -> dict:
-    """One point's record: its results, or why it failed."""
+def _solve_point(values: dict, params, solve_point, budgets: dict, own, checkpoint: Path, every: float) -> dict:
+    """One point's record: its results, or why it failed. Its solves write checkpoints into
+    ``checkpoint``, from which a point killed or interrupted before its record was written goes
+    on in the next run; a point recorded needs them no more."""
+    from bcfem.path.checkpoint import Checkpoints, ResumeError
+    from bcfem.run.resume import checkpointed
+
     level = logger.level
     logger.setLevel(logging.WARNING)  # no per-step progress from inside a point
     jit.install()
     start, compiled = time.perf_counter(), jit.tally().compiled
+    identity = {**dataclasses.asdict(params), **values} \
+        if dataclasses.is_dataclass(params) and not isinstance(params, type) else values
     try:
-        row = {**values, "status": "ok", "reason": "", **solve_point(params, own)}
+        checkpoints = Checkpoints(checkpoint, own, every, True, identity)
+    except ResumeError:  # another point's (another base): from the start
+        checkpoints = Checkpoints(checkpoint, own, every, False, identity)
+    resumed_from = checkpoints.latest_key
+    try:
+        with checkpointed(checkpoints):
+            row = {**values, "status": "ok", "reason": "", **solve_point(params, own),
+                   **({"resumed_from": resumed_from} if resumed_from else {})}
     except Exception as error:  # recorded, never dropped
         row = {**values, "status": "failed", "reason": f"{type(error).__name__}: {error}",
                **({"budgets": budgets} if budgets else {})}
         logger.debug(traceback.format_exc())
     finally:
         logger.setLevel(level)
+    checkpoints.remove()
     row["solve_time_s"] = time.perf_counter() - start  # kept with the point: survives an interrupted run
     row["forms_compiled"] = jit.tally().compiled - compiled  # a sweep compiles the forms of one point
     return row

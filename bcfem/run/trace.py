@@ -35,7 +35,7 @@ def trace(scene, on_accept=None, run=None, arc: ArcLength | None = None,
         forward = arc.forward_sign(problem, scene.observe, scene.grows) if scene.grows else 1
         back, forward = scene.trace_back(arc, problem, forward)
         branch = arc.trace(problem, scene.observe, scene.end, scene.progress_keys, on_accept=on_accept,
-                           guard=scene.guard, switches=scene.switches, direction=forward)
+                           guard=scene.guard, switches=scene.switches, direction=forward, kept=scene.kept)
     except ContinuationError as err:
         err.problem = problem
         raise

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from contextlib import contextmanager
 from time import perf_counter
+from typing import Any
 
 from mpi4py import MPI
 from petsc4py import PETSc
@@ -91,6 +92,9 @@ class Problem(ConvergedAlgebra):
         self.options = options.merge(prefix, petsc_options or {})
         #: whether MUMPS's memory estimate was compared with the ranks' memory (:mod:`.memory`)
         self.memory_checked = False
+        #: the stage's checkpoints, which its paths write and resume from (set by the run that
+        #: built the problem: :class:`bcfem.path.checkpoint.StageCheckpoints`); None: none
+        self.checkpoints: Any = None
         with options.untouched():
             self._nlp = NonlinearProblem(residuals, self.states, bcs=bcs, kind="mpi",
                                          petsc_options_prefix=prefix, petsc_options=self.options,

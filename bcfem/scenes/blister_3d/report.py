@@ -158,6 +158,7 @@ class MembraneScene(BranchScene):
 
         stability = self.stability = VolumeStability(run.problem("stability", self.ctx, self.terms, self.bcs),
                                                      self.ctx, self.v0)
+        self.kept = (stability,)
 
         def on_accept(values):
             stability.on_accept(values)

@@ -186,6 +186,22 @@ class VolumeStability:
     def summary(self) -> dict:
         return {"bifurcations": self.bifurcations}
 
+    def checkpoint(self, problem) -> tuple[dict, list[list[np.ndarray]]]:
+        """The bifurcations found so far, their modes and stable-side states as vectors of
+        ``problem``'s states (:class:`bcfem.path.checkpoint.Kept`)."""
+        vectors = []
+        for mode, states in zip(self.modes, self.states):
+            vectors.append([states.get(n, np.zeros_like(f.x.array)) for n, f in zip(problem.names, problem.states)])
+            vectors.append([mode if n == "displacement" else np.zeros_like(f.x.array)
+                            for n, f in zip(problem.names, problem.states)])
+        return {"bifurcations": self.bifurcations}, vectors
+
+    def resume(self, problem, record: dict, vectors: list[list[np.ndarray]]) -> None:
+        self.bifurcations = list(record["bifurcations"])
+        self.states = [{n: x for n, x in zip(problem.names, v) if n in self.problem.names} for v in vectors[::2]]
+        self.modes = [v[problem.names.index("displacement")] for v in vectors[1::2]]
+        self._last = None  # the resumed point is counted again by on_accept
+
 
 def follow_broken(arc, problem, stability: VolumeStability, observe, end, on_accept=None, guard=None,
                   index: int = 0, progress_keys=()):
