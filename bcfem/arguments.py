@@ -142,7 +142,6 @@ def _words_or(words: dict, convert):
     return parse
 
 
-@functools.cache  # one parser per process: building it takes 50 ms
 def _seconds(text: str) -> float:
     try:
         value = float(text)
@@ -153,6 +152,7 @@ def _seconds(text: str) -> float:
     return value
 
 
+@functools.cache  # one parser per process: building it takes 50 ms
 def build_parser():
     from bcfem.scenes import REGISTRY
 

@@ -146,6 +146,7 @@ def _profile(summary: dict) -> str:
     compiled = summary["jit"]
     lines.append(f"forms compiled {compiled['compiled']} ({compiled['compile_s']:.3f} s), "
                  f"loaded from the cache {compiled['loaded']} ({compiled['load_s']:.3f} s)")
+    lines.append("peak memory per rank " + ", ".join(f"{mb:.0f}" for mb in summary["peak_rss_mb"]) + " MB")
     return "\n".join([f"wall time {wall:.3f} s on {summary['ranks']} rank(s), {summary['dofs']} dofs, "
                       f"{summary['steps']} steps, {summary['newton_iterations']} Newton iterations, "
                       f"{summary['failed_solves']} failed solves", *lines])

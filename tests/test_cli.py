@@ -62,7 +62,7 @@ def test_profile_prints_the_time_split(tmp_path):
     lines = res.stdout.splitlines()
     assert lines[0].startswith("wall time") and "Newton iterations" in lines[0]
     assert [line.split()[0] for line in lines[1:9]] == PARTS
-    assert lines[9].startswith("forms compiled")
+    assert lines[9].startswith("forms compiled") and lines[10].startswith("peak memory per rank")
 
 
 def test_mpi_gives_the_serial_branch(serial, tmp_path):

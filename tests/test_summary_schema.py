@@ -13,7 +13,7 @@ from bcfem.solver.problem import TIMED
 
 SCHEMA = {"scene", "status", "error", "parameters", "stages", "steps", "newton_solves", "newton_iterations",
           "failed_solves", "null_pivots", "dofs", "ranks", "wall_time_s", "time_split_s", "jit", "versions",
-          "petsc_options", "columns"}
+          "petsc_options", "columns", "peak_rss_mb"}
 #: a small run of each scene
 SMALL = {
     "blister-rigid": dict(cells=20, v_max=0.5),
@@ -54,5 +54,7 @@ def test_a_scenes_summary_has_the_schema(scene):
     assert summary["stages"] and all(s["stage"] in run.scene.stages and s["until"] and ("ended" in s or "skipped" in s)
                                      for s in summary["stages"])
     assert list(summary["time_split_s"]) == list(time_split(dict.fromkeys(TIMED, 0.0), 0.0))
+    # every rank's peak memory: at least the interpreter with dolfinx loaded, and not a unit off
+    assert len(summary["peak_rss_mb"]) == MPI.COMM_WORLD.size and all(50 < m < 50_000 for m in summary["peak_rss_mb"])
     prefix = f"bcfem_{scene}_".replace("-", "_")
     assert summary["petsc_options"] and all(k.startswith(prefix) for k in summary["petsc_options"])

@@ -25,8 +25,9 @@ def summary_of(run, name: str, parameters: dict, status: str, error: str | None,
                started: tuple[float, jit.Tally], trace_text: str | None = None) -> dict:
     """The ``summary.json`` of ``run`` (a :class:`bcfem.run.runner.Run`; one schema for every scene
     and study): its status, the parameters, what it found (``run.results``), its stages and
-    columns, the counts of its problems, the wall time from ``started`` (a clock and the JIT's tally) and its split, the
-    versions and the effective PETSc options (collective: the JIT's counts are summed)."""
+    columns, the counts of its problems, the wall time from ``started`` (a clock and the JIT's
+    tally) and its split, each rank's peak memory, the versions and the effective PETSc options
+    (collective: the JIT's counts are summed)."""
     t0, jit0 = started
     wall = time.perf_counter() - t0
     compiled = jit.tally() - jit0
@@ -48,12 +49,20 @@ def summary_of(run, name: str, parameters: dict, status: str, error: str | None,
         "ranks": run.comm.size,
         "wall_time_s": wall,
         "time_split_s": time_split(run.timings, wall, compiled.seconds),
+        "peak_rss_mb": peak_rss_mb(run.comm),
         "jit": compiled.over(run.comm),
         "versions": versions(),
         "petsc_options": run.petsc_options,
     }
 
 
+
+def peak_rss_mb(comm) -> list[float]:
+    """Each rank's peak resident memory so far, in MB (collective; the process's high-water mark,
+    so a run in a process that ran others before reports theirs if larger)."""
+    import resource
+
+    return comm.allgather(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
 
 
 def time_split(timings: dict, wall: float, jit_s: float = 0.0) -> dict:
