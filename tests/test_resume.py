@@ -20,7 +20,7 @@ from bcfem.path.checkpoint import ResumeError, read_fields, write_fields
 
 #: results that depend on the run, not on the physics
 RUN_KEYS = {"wall_time_s", "time_split_s", "jit", "versions", "resumed_from", "files", "newton_solves",
-            "newton_iterations", "failed_solves", "ranks", "petsc_options"}
+            "newton_iterations", "failed_solves", "ranks", "petsc_options", "peak_rss_mb"}
 QUIET = ["--no-plots", "--quiet", "--checkpoint-every", "0"]
 
 
