@@ -31,6 +31,8 @@ class Assembly:
         self.memo = TangentMemo(residuals, problem.states, problem.discrete, problem.comm)
         #: residuals assembled with dolfinx's lifting (x off its Dirichlet values)
         self.liftings = 0
+        #: tangents assembled (not those the memo found held already)
+        self.tangents = 0
         snes.setFunction(self.function, b)
         snes.setJacobian(self.tangent, A, P)
 
@@ -65,6 +67,7 @@ class Assembly:
         except BaseException:
             self.memo.forget()
             raise
+        self.tangents += 1
         self._count(t0, t1)
 
     def destroy(self) -> None:

@@ -40,6 +40,20 @@ if TYPE_CHECKING:
 #: the option value that selects the split
 TYPE = "fieldsplit"
 
+#: the split of a nearly incompressible Taylor–Hood solid that bcfem chooses for the user
+#: (docs/three-dimensional.md): FGMRES on the Schur factorisation, GAMG on u (its set-up kept
+#: across Newton steps while it serves: :class:`bcfem.solver.reduced_lu.Refresh`), Jacobi
+#: on selfp
+SCHUR_GAMG = {
+    "ksp_type": "fgmres", "ksp_rtol": 1e-8, "pc_type": TYPE, "pc_fieldsplit_type": "schur",
+    "pc_fieldsplit_schur_fact_type": "lower", "pc_fieldsplit_schur_precondition": "selfp",
+    "fieldsplit_u_ksp_type": "preonly", "fieldsplit_u_pc_type": "gamg", "fieldsplit_u_pc_gamg_threshold": 0.05,
+    "fieldsplit_p_ksp_type": "preonly", "fieldsplit_p_pc_type": "jacobi"}
+
+#: displacement dofs above which :data:`SCHUR_GAMG` is faster than MUMPS's LDLᵀ for a
+#: crater cell's cycle (both about 80 s at 4.2e4 unknowns on one core: docs/three-dimensional.md)
+SPLIT_ABOVE = 40_000
+
 
 def split_names(problem: ConvergedAlgebra) -> dict[str, list[str]]:
     """The states of each split (``u``, ``p``), by their function spaces (see the module)."""

@@ -28,6 +28,10 @@ class KeptCopy:
         self._entries = entries
         return True
 
+    def holds(self, source: PETSc.Mat) -> bool:
+        """Whether the kept matrix has ``source``'s pattern (collective)."""
+        return self.matrix is not None and source.getInfo()["nz_used"] == self._entries
+
     def destroy(self) -> None:
         if self.matrix is not None:
             self.matrix.destroy()

@@ -58,11 +58,17 @@ class Problem(ConvergedAlgebra):
             from the same initial state (e.g. ``("bt",)``: full Newton steps can cycle
             between two contact active sets). Ignored when the user sets
             ``snes_linesearch_type``: the user's choice wins.
+        stability_count: how :func:`bcfem.stability.inertia.unstable_modes` counts:
+            ``inertia``, MUMPS's LDLᵀ; ``spectrum``, the lowest eigenvalues of the Schur
+            complement on the multipliers (:mod:`bcfem.stability.spectrum`), preconditioned
+            by the field split (needs ``pc_type fieldsplit``): no factorisation.
     """
 
     def __init__(self, ctx, terms, bcs, prefix: str, petsc_options: dict | None = None,
                  rows: dict | None = None, jit_options: dict | None = None, energy_scale: float = 1.0,
-                 line_search_fallbacks: tuple[str, ...] = ()):
+                 line_search_fallbacks: tuple[str, ...] = (), stability_count: str = "inertia"):
+        if stability_count not in ("inertia", "spectrum"):
+            raise ValueError(f"stability_count must be 'inertia' or 'spectrum' (got {stability_count!r})")
         self.ctx = ctx
         self.terms = checked_terms(terms)
         self.discrete = [t for t in self.terms if isinstance(t, DiscreteTerm)]
@@ -90,6 +96,9 @@ class Problem(ConvergedAlgebra):
                      for n, s in zip(self.names, self.states)]
         self.prefix = prefix
         self.options = options.merge(prefix, petsc_options or {})
+        if stability_count == "spectrum" and self.options.get("pc_type") != fieldsplit.TYPE:
+            raise ValueError(f"{prefix}: the stability count by the spectrum is preconditioned by the field split: "
+                             f"give -{prefix}pc_type fieldsplit (or count by inertia)")
         #: whether MUMPS's memory estimate was compared with the ranks' memory (:mod:`.memory`)
         self.memory_checked = False
         #: the stage's checkpoints, which its paths write and resume from (set by the run that
@@ -104,6 +113,7 @@ class Problem(ConvergedAlgebra):
         self.field_split = FieldSplit(self) if self.options.get("pc_type") == fieldsplit.TYPE else None
         if self.field_split is not None:
             self.field_split.configure(self.snes.getKSP().getPC())
+        self.stability_count = stability_count
         self.line_search_fallbacks = () if options.user_set(prefix, "snes_linesearch_type") \
             else tuple(line_search_fallbacks)
         self.iterations = 0

@@ -17,10 +17,12 @@ checks the non-axisymmetric ones.
 
 from __future__ import annotations
 
+from mpi4py import MPI
 from petsc4py import PETSc
 
 import numpy as np
 
+from bcfem.log import logger
 from bcfem.solver import options
 from bcfem.solver.kept_copy import KeptCopy
 
@@ -53,8 +55,62 @@ def _negative_modes(problem, active_tol: float, held: tuple[str, ...]) -> int:
         start, end = x.getOwnershipRange()
         fixed = np.concatenate([problem.global_indices(name) for name in held])
         rows = np.union1d(rows, fixed[(fixed >= start) & (fixed < end)]).astype(PETSc.IntType)
-    tangent = problem.kept("tangent_inertia", lambda: TangentInertia(problem.prefix + "inertia_"))
-    return tangent.negative(jacobian, rows)
+    last = problem.kept("last_count", _LastCount)
+    key = (problem.assembly.tangents, jacobian.handle)
+    if last.key == key and problem.comm.allreduce(bool(np.array_equal(rows, last.rows)), op=MPI.LAND):
+        return last.negative  # the same tangent, the same rows held: a state counted already
+    negative = None
+    if problem.stability_count == "spectrum":
+        negative = spectrum_count(problem, jacobian, rows)
+    if negative is None:
+        tangent = problem.kept("tangent_inertia", lambda: TangentInertia(problem.prefix + "inertia_"))
+        negative = tangent.negative(jacobian, rows)
+    last.key, last.rows, last.negative = key, rows, negative
+    return negative
+
+
+class _LastCount:
+    """The last count and the tangent (assembly number, matrix) and held rows it was of."""
+
+    def __init__(self):
+        self.key: tuple | None = None
+        self.rows = np.empty(0, PETSc.IntType)
+        self.negative = 0
+
+    def close(self) -> None:
+        pass
+
+
+def spectrum_count(problem, jacobian: PETSc.Mat, rows: np.ndarray) -> int | None:
+    """The negative eigenvalues of ``jacobian`` (``rows`` held) from the lowest eigenvalues of
+    its Schur complement on the multipliers, preconditioned by the problem's field split
+    (:mod:`bcfem.stability.spectrum`); None where the multipliers' block is not negative
+    definite (then MUMPS counts, and the problem says so once). Needs the problem's field split."""
+    from bcfem.solver import fieldsplit
+    from bcfem.stability.spectrum import SchurSpectrum, Unsupported
+
+    if problem.kept("spectrum_unsupported", lambda: _Flag()).raised:
+        return None
+    split = problem.field_split
+    spectrum = problem.kept("tangent_spectrum", lambda: SchurSpectrum(
+        problem.snes.comm, lambda: fieldsplit.reduced_inner_ksp(problem, split)))
+    start, end = jacobian.getOwnershipRange()
+    names = [n for n in problem.multipliers if n in problem.names]
+    multipliers = np.concatenate([problem.global_indices(n) for n in names]) if names else np.empty(0, PETSc.IntType)
+    multipliers = np.sort(multipliers[(multipliers >= start) & (multipliers < end)]).astype(PETSc.IntType)
+    try:
+        return spectrum.negative(jacobian, rows, multipliers)
+    except Unsupported as error:
+        problem.kept("spectrum_unsupported", lambda: _Flag()).raised = True
+        logger.warning(f"{problem.prefix}: the stability count needs MUMPS's LDL^T here: {error}")
+        return None
+
+
+class _Flag:
+    raised = False
+
+    def close(self) -> None:
+        pass
 
 
 class TangentInertia:

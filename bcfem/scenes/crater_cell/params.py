@@ -48,6 +48,8 @@ area the contact line encloses (the wall's part off the plate).
 PETSc prefixes: bcfem_crater_cell_load_ and bcfem_crater_cell_unload_."""
 
 FLUID_NAMES = ("air", "liquid")
+SOLVERS = ("auto", "direct", "split")
+STABILITY = ("inertia", "spectrum", "none")
 #: the columns of ``branch.csv``
 COLUMNS = declare(
     "stage", "eps", "p_over_pa", "V_over_V0", "A_over_A0", "F_tilde",
@@ -91,10 +93,15 @@ class Params:
         "gamma / (mu a) of the crater walls, 0: none", bound=Bound(0, 0.1)))
     strain_step: float = field(default=0.0125, metadata=describe(
         "platen strain between checkpoints of both stages (failed steps are halved)", bound=Bound(1e-3, 0.1)))
+    solver: str = field(default="auto", metadata=describe(
+        "the Newton step's linear solver: direct (MUMPS's LDL^T), split (FGMRES with a "
+        "displacement-pressure Schur split, GAMG on the displacement), auto (split above 40000 "
+        "displacement dofs or with --stability spectrum, direct below)", "", SOLVERS))
     stability: str = field(default="inertia", metadata=describe(
-        "inertia: count the tangent's negative eigenvalues after every step (a MUMPS LDL^T "
-        "factorisation each, also under an iterative solver); none: skip it (a cell too large to "
-        "factorise; summary.json then says 'not checked')", "", ("inertia", "none")))
+        "inertia: count the tangent's negative eigenvalues after every step by a MUMPS LDL^T "
+        "factorisation (whatever the solver); spectrum: by the lowest eigenvalues of its Schur "
+        "complement on the pressures, preconditioned by the split (no factorisation; needs the "
+        "split, and air); none: skip it (summary.json then says 'not checked')", "", STABILITY))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage", "",
         bound=Bound(0, 1000, integer=True), budget=True))
@@ -103,7 +110,7 @@ class Params:
     def __post_init__(self):
         check_bounds(self)
         for name, choices in (("lattice", LATTICES), ("fluid", FLUID_NAMES), ("cell", CELLS),
-                              ("stability", ("inertia", "none"))):
+                              ("stability", STABILITY), ("solver", SOLVERS)):
             require(getattr(self, name) in choices,
                     f"--{name} must be one of {list(choices)} (got {getattr(self, name)!r})")
         require(self.size_rim <= self.size_wall,
@@ -113,6 +120,9 @@ class Params:
         require(self.specimen_height <= 100 * self.crater_radius,
                 f"--specimen-height must be at most 100 crater radii "
                 f"(got {self.specimen_height / self.crater_radius:g} a)")
+        require(self.stability != "spectrum" or (self.solver != "direct" and self.fluid == "air"),
+                "--stability spectrum needs --solver split or auto, and --fluid air (a liquid's volume "
+                f"constraint has no Schur complement; got --solver {self.solver} --fluid {self.fluid})")
         require(self.cell == "quarter" or self.lattice == "square",
                 f"--cell eighth is the square lattice's (got --lattice {self.lattice})")
         densest = close_packing(self.lattice)

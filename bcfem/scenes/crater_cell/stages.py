@@ -19,6 +19,7 @@ from bcfem.scenes.crater.report import classify
 from bcfem.scenes.crater.stages import LINE_SEARCH_FALLBACKS
 from bcfem.scenes.crater_cell.model import CellModel
 from bcfem.scenes.crater_cell.params import COLUMNS, Params
+from bcfem.solver.fieldsplit import SCHUR_GAMG, SPLIT_ABOVE
 
 
 class CellCycle(StagedScene):
@@ -48,9 +49,19 @@ class CellCycle(StagedScene):
         return self.model
 
     @property
+    def split(self) -> bool:
+        """Whether the Newton step is the field split's (``--solver``; auto: by the dofs)."""
+        params = self.params
+        if params.solver != "auto":
+            return params.solver == "split"
+        space = self.cell.u.function_space
+        return params.stability == "spectrum" or space.dofmap.index_map.size_global * 3 > SPLIT_ABOVE
+
+    @property
     def problem_options(self) -> dict:
-        return dict(petsc_options={"snes_type": "vinewtonrsls"}, energy_scale=self.cell.energy_scale,
-                    line_search_fallbacks=LINE_SEARCH_FALLBACKS)
+        return dict(petsc_options={"snes_type": "vinewtonrsls", **(SCHUR_GAMG if self.split else {})},
+                    energy_scale=self.cell.energy_scale, line_search_fallbacks=LINE_SEARCH_FALLBACKS,
+                    stability_count="spectrum" if self.params.stability == "spectrum" else "inertia")
 
     def setup(self, run) -> None:
         model = self.model = CellModel(self.params, self.comm)
@@ -78,7 +89,7 @@ class CellCycle(StagedScene):
         params = self.params
         return LoadPath(problem, self.cell.set_platen, stage, self.cell.viscosity,
                         params.beta / params.crater_radius**2, events=self.events, max_snaps=params.max_snaps,
-                        load_name="eps", check_stability=params.stability == "inertia")
+                        load_name="eps", check_stability=params.stability != "none")
 
     def _prepare(self, problem) -> None:
         self.cell.contact_bounds(problem)
@@ -135,7 +146,8 @@ class CellCycle(StagedScene):
             # the craters of a hexagonal cell are one crater of the lattice twice: equal pressures
             "pressure_spread": max(r["pressure_spread"] for r in run.rows),
             "wall_on_plate": max(r["wall_on_plate"] for r in run.rows),
-            "stability": classify(self.events) if self.params.stability == "inertia" else "not checked"})
+            "stability": classify(self.events) if self.params.stability != "none" else "not checked",
+            "linear_solver": "split" if self.split else "direct"})
 
     def figures(self, rows, summary) -> dict:
         from bcfem.scenes.crater_cell.report import plot
