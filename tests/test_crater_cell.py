@@ -28,6 +28,8 @@ SPARSE = dict(crater_radius=1.0, specimen_height=10.0, filling=0.01, size_wall=0
     (("--filling", "0"), "--filling"),
     (("--crater-radius", "10", "--specimen-height", "8"), "--specimen-height"),
     (("--size-wall", "0.5", "--size-far", "0.3"), "--size-far"),
+    (("--solver", "direct", "--stability", "spectrum"), "--stability"),
+    (("--fluid", "liquid", "--stability", "spectrum"), "--stability"),
 ])
 def test_bad_input_exits_2(tmp_path, argv, name):
     assert name in refused("run", "crater-cell", *argv, out=tmp_path / "out")
@@ -110,6 +112,20 @@ def test_stability_none_skips_the_count_only():
     assert skipped["time_split_s"]["stability"] == 0.0
     for key in ("F_tilde", "p2_over_pa", "V2_over_V0", "eps_at_zero_force"):
         assert skipped[key] == pytest.approx(counted[key], rel=1e-10), key
+
+
+@pytest.mark.slow
+@pytest.mark.mpi
+def test_the_split_and_the_spectrum_give_the_direct_cycle():
+    """--solver split (FGMRES with the Schur split, its set-up kept) reaches MUMPS's cycle to the
+    Krylov tolerance, and --stability spectrum finds it stable as MUMPS's inertia does."""
+    direct = crater_cell.solve(crater_cell.Params(**SPARSE, solver="direct"), MPI.COMM_WORLD)[1]
+    split = crater_cell.solve(crater_cell.Params(**SPARSE, solver="split", stability="spectrum"), MPI.COMM_WORLD)[1]
+    assert direct["linear_solver"] == "direct" and split["linear_solver"] == "split"
+    assert direct["stability"] == split["stability"] == "stable"
+    assert split["instabilities"] == direct["instabilities"] == []
+    for key in ("F_tilde", "p2_over_pa", "V2_over_V0", "eps_at_zero_force"):
+        assert split[key] == pytest.approx(direct[key], rel=1e-8), key
 
 
 @pytest.mark.mpi
