@@ -31,9 +31,10 @@ from bcfem.log import configure
 from bcfem.scenes import crater_cell
 
 OUT = ROOT / "docs" / "benchmarks"
-#: issue #53's two cells: the default mesh and the finer one, at its filling
+#: issue #53's two cells (the default mesh and the finer one) and one of about 1e5 dofs, at its filling
 FILLING = 0.0490873852
-MESHES = {"default": {}, "fine": {"size_wall": 0.15, "size_rim": 0.05, "size_far": 0.4}}
+MESHES = {"default": {}, "fine": {"size_wall": 0.15, "size_rim": 0.05, "size_far": 0.4},
+          "1e5": {"size_wall": 0.13, "size_rim": 0.043, "size_far": 0.33}}
 REPEATS = 5
 COLUMNS = ["mesh", "dofs", "newton_iterations", "scene_assembly_s", "scene_per_iteration_s", "bare_per_iteration_s",
            "ratio"]
@@ -97,7 +98,8 @@ def main(render_only: bool) -> None:
              ("ratio", lambda r: f"{r['ratio']:.2f}")]
     text = ("# The crater cell's assembly against a bare dolfinx assembly\n\n"
             "`.venv/bin/python benchmarks/assembly_limit.py` (one core). The scene: `bcfem run crater-cell "
-            f"--filling {FILLING} --preload 0.0125` (and `--size-wall 0.15 --size-rim 0.05 --size-far 0.4`), its "
+            f"--filling {FILLING} --preload 0.0125` (and `--size-wall 0.15 --size-rim 0.05 --size-far 0.4`, "
+            "`--size-wall 0.13 --size-rim 0.043 --size-far 0.33`; the default solver), its "
             "assembly time, every form and stage, over its "
             "Newton iterations. The limit: one residual and one tangent of a Taylor-Hood neo-Hookean solid, "
             "quadrature degree 4, blocked PETSc objects, on the same mesh (the best of "
