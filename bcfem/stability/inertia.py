@@ -89,28 +89,20 @@ def spectrum_count(problem, jacobian: PETSc.Mat, rows: np.ndarray) -> int | None
     from bcfem.solver import fieldsplit
     from bcfem.stability.spectrum import SchurSpectrum, Unsupported
 
-    if problem.kept("spectrum_unsupported", lambda: _Flag()).raised:
-        return None
     split = problem.field_split
     spectrum = problem.kept("tangent_spectrum", lambda: SchurSpectrum(
         problem.snes.comm, lambda: fieldsplit.reduced_inner_ksp(problem, split)))
-    start, end = jacobian.getOwnershipRange()
+    if spectrum.unsupported:
+        return None
     names = [n for n in problem.multipliers if n in problem.names]
-    multipliers = np.concatenate([problem.global_indices(n) for n in names]) if names else np.empty(0, PETSc.IntType)
-    multipliers = np.sort(multipliers[(multipliers >= start) & (multipliers < end)]).astype(PETSc.IntType)
+    multipliers = np.sort(np.concatenate([fieldsplit.owned_rows(problem, n) for n in names])
+                          if names else np.empty(0)).astype(PETSc.IntType)
     try:
         return spectrum.negative(jacobian, rows, multipliers)
     except Unsupported as error:
-        problem.kept("spectrum_unsupported", lambda: _Flag()).raised = True
+        spectrum.unsupported = str(error)
         logger.warning(f"{problem.prefix}: the stability count needs MUMPS's LDL^T here: {error}")
         return None
-
-
-class _Flag:
-    raised = False
-
-    def close(self) -> None:
-        pass
 
 
 class TangentInertia:
