@@ -18,8 +18,14 @@ def cycle(**kwargs):
 
 
 @pytest.fixture(scope="module")
-def hemisphere_to_closure():
-    return cycle(preload=crater.PRELOAD_TO_CLOSURE)
+def closure_run():
+    """The hemisphere pressed to closure: (rows, summary)."""
+    return crater.solve(crater.Params(preload=crater.PRELOAD_TO_CLOSURE), MPI.COMM_WORLD)
+
+
+@pytest.fixture(scope="module")
+def hemisphere_to_closure(closure_run):
+    return closure_run[1]
 
 
 @slow
@@ -43,18 +49,19 @@ def test_stiff_thin_layer_converges_and_strengthens():
 
 
 @slow
-def test_closure_preload_brackets_the_first_closed_state(hemisphere_to_closure):
+def test_closure_preload_brackets_the_first_closed_state(closure_run):
     """eps_m closes the crater (V1 <= CLOSURE_VOLUME V0; stage 2 has a vacuum inside:
-    F = p_a A2, eq. 7.17, and says so); a preload 0.01 below leaves it open."""
-    summary = hemisphere_to_closure
+    F = p_a A2, eq. 7.17, and says so); every loaded state 0.01 below it is open. (The loading
+    is the same whatever the preload, so the load rows stand for the cycles pressed less.)"""
+    rows, summary = closure_run
     eps_m = summary["eps_m"]
     assert 0.3 < eps_m < 0.5
     assert summary["V1_over_V0"] <= crater.CLOSURE_CRITERIA.volume and summary["p2_over_pa"] == 0.0
     assert summary["F_tilde"] == pytest.approx(summary["A2_over_A0"], rel=1e-12)
     assert "eq. 7.17" in summary["closure_note"]
-    below = cycle(preload=round(eps_m - 0.01, 4))
-    assert below["V1_over_V0"] > crater.CLOSURE_CRITERIA.volume and below["closure_note"] is None
-    assert abs(below["fluid_law_residual"]) < 1e-8
+    below = [r for r in rows if r["stage"] == "load" and r["eps"] <= eps_m - 0.01]
+    assert below and max(r["eps"] for r in below) > eps_m - 0.05
+    assert min(r["V_over_V0"] for r in below) > crater.CLOSURE_CRITERIA.volume
 
 
 @slow
@@ -95,7 +102,8 @@ def test_sweep_is_rank_count_invariant(tmp_path):
 def test_stability_classification(hemisphere_to_closure):
     """A small preload is stable throughout; closing the hemisphere passes instabilities
     already on loading (the inertia of the tangent turns negative)."""
-    assert cycle(preload=0.1)["stability"] == "stable"
+    plain = cycle(preload=0.1)
+    assert plain["stability"] == "stable" and plain["closure_note"] is None
     assert hemisphere_to_closure["stability"] == "unstable-both"
     assert any(e["stage"] == "load" for e in hemisphere_to_closure["instabilities"])
 
