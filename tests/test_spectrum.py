@@ -13,11 +13,12 @@ from bcfem.stability.inertia import TangentInertia, unstable_modes
 from bcfem.stability.spectrum import SchurSpectrum, Unsupported
 
 
-def saddle(comm, shift: float, seed: int = 0, zero_c: int = 0):
+def saddle(comm, shift: float, seed: int = 0, zero_c: int = 0, positive_c: bool = False):
     """K = [A Bᵀ; B C] (60 primal, 20 multipliers, interleaved rows) with A = L Lᵀ/n + diag(shift
     ... 3): negative eigenvalues of S for a negative shift; C = -diag(0.5 ... 2), its first
-    ``zero_c`` entries 0. Returns (the distributed matrix, its dense copy, the multipliers'
-    global rows)."""
+    ``zero_c`` entries 0 (one: a dense row of B; more: rows of B on three primal unknowns each),
+    the first positive with ``positive_c``. Returns (the distributed matrix, its dense copy, the
+    multipliers' global rows)."""
     rng = np.random.default_rng(seed)
     n, m = 60, 20
     L = rng.standard_normal((n, n))
@@ -25,6 +26,12 @@ def saddle(comm, shift: float, seed: int = 0, zero_c: int = 0):
     B = 0.3 * rng.standard_normal((m, n))
     C = -np.diag(rng.uniform(0.5, 2, m))
     C[range(zero_c), range(zero_c)] = 0
+    if zero_c > 1:
+        B[:zero_c] = 0
+        for i in range(zero_c):
+            B[i, 3 * i:3 * i + 3] = rng.uniform(0.5, 1, 3)
+    if positive_c:
+        C[0, 0] = 1.0
     perm = rng.permutation(n + m)
     K = np.block([[A, B.T], [B, C]])[np.ix_(perm, perm)]
     M = PETSc.Mat().createAIJ(((PETSc.DECIDE, n + m), (PETSc.DECIDE, n + m)), comm=comm)
@@ -72,12 +79,36 @@ def test_the_count_is_the_inertia_with_held_rows(shift):
         inertia.close()
 
 
-def test_a_zero_multiplier_block_has_no_complement():
-    """A volume constraint's zero block (an incompressible liquid): the count says why it cannot."""
-    M, _, multipliers = saddle(MPI.COMM_SELF, -0.3, zero_c=1)
+@pytest.mark.mpi
+@pytest.mark.parametrize("zero_c", [1, 4])
+@pytest.mark.parametrize("shift", [-0.3, -1.0])
+def test_multipliers_without_a_block_are_projected_out(zero_c, shift):
+    """Constraints with a zero block (one: an incompressible liquid's dense volume row; four:
+    a mirror's rows) are eliminated by the projection on their null space: the count equals
+    the dense eigenvalues' and MUMPS's, with a row held, along a path of two matrices."""
+    comm = MPI.COMM_WORLD
+    spectrum = SchurSpectrum(comm)
+    inertia = TangentInertia("bcfem_test_spectrum_")
+    try:
+        for seed in (2, 3):
+            M, K, multipliers = saddle(comm, shift, seed, zero_c=zero_c)
+            held = np.array([5])
+            expected = dense_negative(K, held)
+            assert spectrum.negative(M, owned(held, M), owned(multipliers, M)) == expected
+            assert inertia.negative(M, owned(held, M)) == expected
+            M.destroy()
+        assert (expected > multipliers.size) == (shift < -0.5)
+    finally:
+        spectrum.close()
+        inertia.close()
+
+
+def test_a_positive_multiplier_block_has_no_complement():
+    """C with a positive entry: S = A - Bᵀ C⁻¹ B is not what counts, and the count says so."""
+    M, _, multipliers = saddle(MPI.COMM_SELF, -0.3, positive_c=True)
     spectrum = SchurSpectrum(MPI.COMM_SELF)
     try:
-        with pytest.raises(Unsupported, match="incompressible liquid"):
+        with pytest.raises(Unsupported, match="not negative definite"):
             spectrum.negative(M, np.empty(0, PETSc.IntType), multipliers.astype(PETSc.IntType))
     finally:
         spectrum.close()

@@ -18,11 +18,16 @@ Krylov solve of K [y; w] = [x; 0] (the primal block of K⁻¹ is S⁻¹) with th
 field split. The eigenvectors of one count start the next, so along a path a count costs a
 few preconditioned solves.
 
-A multiplier whose block is zero (an incompressible liquid's volume, a mirror's traction) has
-no such complement: :class:`Unsupported` says so, and the inertia then needs MUMPS. (Moving
-such a constraint into the primal rows keeps Haynsworth's count exact, but its negative
-eigenvalue lies far below zero, where the preconditioner, close to S⁻¹, does not lead the
-eigensolver: on the liquid-filled cell it missed it.)
+A multiplier whose block is zero (an incompressible liquid's volume, a mirror's traction)
+has no complement. Its rows B_z constrain the primal unknowns instead: with Z a basis of
+null(B_z) (B_z of full rank), neg(K) = (multiplier unknowns) + neg(Zᵀ S Z). Zᵀ S Z is
+counted as S_P = P S P + σ (I - P), P = I - B_zᵀ (B_z B_zᵀ)⁻¹ B_z the orthogonal projection on
+null(B_z) (CG on B_z B_zᵀ) and σ = max D > 0: on range(P) it is Zᵀ S Z, on the rest σ I. Its
+inverse, Z (Zᵀ S Z)⁻¹ Zᵀ + (I - P)/σ, is again the primal part of the Krylov solve of K with
+every multiplier in it. (Moving such a constraint into the primal rows instead keeps the count
+exact, but its negative eigenvalue lies far below zero, where the preconditioner does not lead
+the eigensolver: on the liquid-filled cell it missed it.) :class:`Unsupported` is left for
+a positive multiplier block, or one that couples a zero-block multiplier.
 """
 
 from __future__ import annotations
@@ -102,18 +107,26 @@ class SchurSpectrum:
         return self._mpi.allreduce(rows.size) + self._count_negative(K)
 
     def _index_sets(self, K: PETSc.Mat, rows: np.ndarray) -> None:
+        """Primal rows ``p``, multipliers with a block ``c`` and with none ``z`` (K's diagonal 0)."""
         for obj in (*self._sets.values(), *self._blocks.values(), *self._vectors):
             obj.destroy()
         self._blocks, self._vectors = {}, []  # another primal space: no start from the last count
         self._rows = rows
         start, end = K.getOwnershipRange()
         primal = np.setdiff1d(np.arange(start, end, dtype=PETSc.IntType), rows)
-        self._sets = {"p": PETSc.IS().createGeneral(primal, comm=self.comm),
-                      "m": PETSc.IS().createGeneral(rows, comm=self.comm)}
+        diagonal = K.getDiagonal()
+        with diagonal as d:
+            zero = d[rows - start] == 0
+        diagonal.destroy()
+        self._sets = {name: PETSc.IS().createGeneral(ix, comm=self.comm)
+                      for name, ix in (("p", primal), ("c", rows[~zero]), ("z", rows[zero]))}
 
     def _extract(self, K: PETSc.Mat, fresh: bool) -> None:
-        p, m = self._sets["p"], self._sets["m"]
-        for name, (rows, cols) in {"A": (p, p), "Bt": (p, m), "B": (m, p), "C": (m, m)}.items():
+        p, c, z = self._sets["p"], self._sets["c"], self._sets["z"]
+        blocks = {"A": (p, p), "Bt": (p, c), "B": (c, p), "C": (c, c)}
+        if z.getSize():
+            blocks |= {"Bzt": (p, z), "Bz": (z, p), "Czc": (z, c), "Czz": (z, z)}
+        for name, (rows, cols) in blocks.items():
             self._blocks[name] = K.createSubMatrix(rows, cols, submat=None if fresh else self._blocks[name])
         minus_c = self._blocks["C"]
         minus_c.scale(-1.0)
@@ -121,8 +134,9 @@ class SchurSpectrum:
         smallest = diagonal.min()[1] if diagonal.getSize() else 1.0
         diagonal.destroy()
         if smallest <= 0:
-            raise Unsupported("a multiplier's block is zero (an incompressible liquid's volume, a mirror's "
-                              "traction): S = A - B^T C^-1 B does not exist")
+            raise Unsupported("a multiplier's block is not negative definite: S = A - B^T C^-1 B does not exist")
+        if z.getSize() and max(self._blocks[k].norm(PETSc.NormType.FROBENIUS) for k in ("Czc", "Czz")) > 0:
+            raise Unsupported("a multiplier with a zero diagonal couples to the multipliers: no projection")
 
     def _count_negative(self, K: PETSc.Mat) -> int:
         A, Bt, B, minus_c = (self._blocks[k] for k in ("A", "Bt", "B", "C"))
@@ -131,6 +145,12 @@ class SchurSpectrum:
         S.setUp()
         D = _scaling(A)
         inverse = _PrimalInverse(K, self._sets["p"], self._preconditioner_of(K), self.inner_rtol, self.inner_its)
+        projected = None
+        if "Bz" in self._blocks:
+            projected = _Projected(S, self._blocks["Bz"], self._blocks["Bzt"], D.getDiagonal().max()[1])
+            S = PETSc.Mat().createPython(A.getSizes(), projected, comm=self.comm)
+            S.setUp()
+            inverse.complement = projected
         try:
             nev = max(self.least, self._count + 1)
             while True:  # until a non-negative eigenvalue bounds the negative ones
@@ -144,6 +164,8 @@ class SchurSpectrum:
                 obj.destroy()
             schur.close()
             inverse.close()
+            if projected is not None:
+                projected.close()
         self.inner_iterations = inverse.iterations
         self._refresh.solved(inverse.most)
         self.lowest, self._count = values, negative
@@ -244,6 +266,8 @@ class _Schur:
 
     def mult(self, mat, x, y):
         self.A.mult(x, y)
+        if self._b.getSize() == 0:
+            return
         self.B.mult(x, self._b)
         self.ksp.solve(self._b, self._z)
         if self.ksp.getConvergedReason() < 0:
@@ -253,6 +277,50 @@ class _Schur:
 
     def close(self) -> None:
         for obj in (self.ksp, self._b, self._z):
+            obj.destroy()
+
+
+class _Projected:
+    """S_P x = P S P x + σ (I - P) x, a petsc4py ``python`` matrix, with P = I - B_zᵀ (B_z B_zᵀ)⁻¹ B_z
+    the orthogonal projection on null(B_z) ((B_z B_zᵀ)⁻¹ by CG with Jacobi)."""
+
+    def __init__(self, S: PETSc.Mat, Bz: PETSc.Mat, Bzt: PETSc.Mat, sigma: float):
+        self.S, self.Bz, self.Bzt, self.sigma = S, Bz, Bzt, sigma
+        self.gram = Bz.matMult(Bzt)
+        self.ksp = PETSc.KSP().create(Bz.getComm())
+        self.ksp.setType("cg")
+        self.ksp.getPC().setType("jacobi")
+        self.ksp.setOperators(self.gram)
+        self.ksp.setTolerances(rtol=1e-12, atol=0.0, max_it=1000)
+        self.ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
+        self._b, self._z = self.gram.createVecs()
+        self._px, self._spx = S.createVecs()
+
+    def project(self, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        """y = P x."""
+        self.Bz.mult(x, self._b)
+        self.ksp.solve(self._b, self._z)
+        if self.ksp.getConvergedReason() < 0:
+            raise Unsupported(f"CG on B_z B_z^T stopped ({self.ksp.getConvergedReason()}): the zero-block "
+                              "constraints are not independent")
+        self.Bzt.mult(self._z, y)
+        y.aypx(-1.0, x)
+
+    def mult(self, mat, x, y):
+        self.project(x, self._px)
+        self.S.mult(self._px, self._spx)
+        self.project(self._spx, y)
+        y.axpy(self.sigma, x)
+        y.axpy(-self.sigma, self._px)
+
+    def complement(self, x: PETSc.Vec, y: PETSc.Vec) -> None:
+        """y += (I - P) x / σ: the inverse of S_P off null(B_z)."""
+        self.project(x, self._px)
+        y.axpy(1.0 / self.sigma, x)
+        y.axpy(-1.0 / self.sigma, self._px)
+
+    def close(self) -> None:
+        for obj in (self.gram, self.ksp, self._b, self._z, self._px, self._spx):
             obj.destroy()
 
 
@@ -275,6 +343,8 @@ class _PrimalInverse:
         self.rhs, self.solution = K.createVecs()
         #: Krylov iterations, all and the most in one solve
         self.iterations = self.most = 0
+        #: the projection whose complement the inverse adds (zero-block multipliers), if any
+        self.complement: _Projected | None = None
 
     def apply(self, pc, x, y):
         self.rhs.zeroEntries()
@@ -289,6 +359,8 @@ class _PrimalInverse:
         part = self.solution.getSubVector(self.primal)
         part.copy(y)
         self.solution.restoreSubVector(self.primal, part)
+        if self.complement is not None:
+            self.complement.complement(x, y)
 
     def matApply(self, pc, X, Y):
         """Column by column: SLEPc applies blocks of vectors."""

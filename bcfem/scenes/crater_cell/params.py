@@ -101,7 +101,7 @@ class Params:
         "inertia: count the tangent's negative eigenvalues after every step by a MUMPS LDL^T "
         "factorisation (whatever the solver); spectrum: by the lowest eigenvalues of its Schur "
         "complement on the pressures, preconditioned by the split (no factorisation; needs the "
-        "split, and air); none: skip it (summary.json then says 'not checked')", "", STABILITY))
+        "split); none: skip it (summary.json then says 'not checked')", "", STABILITY))
     max_snaps: int = field(default=24, metadata=describe(
         "snaps (steps passed by pseudo-time relaxation) allowed per stage", "",
         bound=Bound(0, 1000, integer=True), budget=True))
@@ -120,9 +120,8 @@ class Params:
         require(self.specimen_height <= 100 * self.crater_radius,
                 f"--specimen-height must be at most 100 crater radii "
                 f"(got {self.specimen_height / self.crater_radius:g} a)")
-        require(self.stability != "spectrum" or (self.solver != "direct" and self.fluid == "air"),
-                "--stability spectrum needs --solver split or auto, and --fluid air (a liquid's volume "
-                f"constraint has no Schur complement; got --solver {self.solver} --fluid {self.fluid})")
+        require(self.stability != "spectrum" or self.solver != "direct",
+                "--stability spectrum needs --solver split or auto (its preconditioner; got --solver direct)")
         require(self.cell == "quarter" or self.lattice == "square",
                 f"--cell eighth is the square lattice's (got --lattice {self.lattice})")
         densest = close_packing(self.lattice)
