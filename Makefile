@@ -21,14 +21,14 @@ test: venv
 	./tools/test-halves.sh
 	$(MPI_PYTEST) -m "mpi and not slow and not convergence and not demo and not study" tests
 
-# everything: adds full crater cycles, convergence studies and the demos (serial and on NP ranks)
+# everything: adds full crater cycles, convergence studies and the demos on NP ranks
 test-all: venv
 	$(BIN)/ruff check .
 	$(BIN)/mypy
 	BCFEM_FULL_DRAW=1 WEIGHTS=tools/test-durations-all.txt ./tools/test-halves.sh -m "not study" --durations=20
 	$(MPI_PYTEST) -m "mpi and not study" tests
 
-# checks of a minute or more each (contact cycles, plate contact in a cell): not in CI
+# checks of a minute or more each (contact cycles, plate contact in a cell, the demos in serial): not in CI
 study: venv
 	$(PYTEST) -m study --durations=0 tests
 	$(MPI_PYTEST) -m "mpi and study" tests

@@ -6,8 +6,9 @@ also checks that the expected files are there, that nothing temporary is left
 behind and that only rank 0 printed.
 
 Marked ``serial``: pytest itself must not run under mpirun, since it launches
-mpirun. The runs are ``slow`` and ``demo`` (``make test-all``); the command-line
-contract is checked in the fast tier.
+mpirun. The runs on two ranks are ``slow`` and ``demo`` (``make test-all``): they check all
+that a serial run does and that only rank 0 prints. The serial runs are a ``study`` (``make
+study``), to keep CI within its time; the command-line contract is checked in the fast tier.
 """
 
 import ast
@@ -116,6 +117,7 @@ def test_a_demo_help_lists_the_flags():
 @pytest.mark.parametrize("demo", DEMOS, ids=lambda p: p.stem)
 @pytest.mark.slow
 @pytest.mark.demo
+@pytest.mark.study
 def test_demo_serial(demo, tmp_path):
     out = tmp_path / "out"
     check_outputs(demo, out, run_demo(demo, out, ranks=1))
