@@ -20,14 +20,14 @@ few preconditioned solves.
 
 A multiplier whose block is zero (an incompressible liquid's volume, a mirror's traction)
 has no complement. Its rows B_z constrain the primal unknowns instead: with Z a basis of
-null(B_z) (B_z of full rank), neg(K) = (multiplier unknowns) + neg(Zᵀ S Z). Zᵀ S Z is
-counted as S_P = P S P + σ (I - P), P = I - B_zᵀ (B_z B_zᵀ)⁻¹ B_z the orthogonal projection on
-null(B_z) (CG on B_z B_zᵀ) and σ = max D > 0: on range(P) it is Zᵀ S Z, on the rest σ I. Its
-inverse, Z (Zᵀ S Z)⁻¹ Zᵀ + (I - P)/σ, is again the primal part of the Krylov solve of K with
-every multiplier in it. (Moving such a constraint into the primal rows instead keeps the count
-exact, but its negative eigenvalue lies far below zero, where the preconditioner does not lead
-the eigensolver: on the liquid-filled cell it missed it.) :class:`Unsupported` is left for
-a positive multiplier block, or one that couples a zero-block multiplier.
+null(B_z) (B_z of full rank), neg(K) = (multiplier unknowns) + neg(Zᵀ S Z), counted through the
+projection on null(B_z) (:mod:`bcfem.stability.projection`); the primal part of the Krylov
+solve of K with every multiplier in it is Z (Zᵀ S Z)⁻¹ Zᵀ, so the same preconditioner serves.
+(Moving such a constraint into the primal rows instead keeps the count exact, but its negative
+eigenvalue lies far below zero, where the preconditioner does not lead the eigensolver: on the
+liquid-filled cell it missed it.)
+:class:`Unsupported` is left for a positive multiplier block, or one that couples a zero-block
+multiplier.
 """
 
 from __future__ import annotations
@@ -42,10 +42,9 @@ from slepc4py import SLEPc
 
 from bcfem.solver.kept_copy import KeptCopy
 from bcfem.solver.reduced_lu import Refresh
+from bcfem.stability.projection import Projection, Unsupported
 
-
-class Unsupported(RuntimeError):
-    """The multipliers' block is not negative definite: no Schur complement to count by."""
+__all__ = ["SchurSpectrum", "Unsupported"]
 
 
 class SchurSpectrum:
@@ -72,6 +71,7 @@ class SchurSpectrum:
         self._mpi = comm.tompi4py() if isinstance(comm, PETSc.Comm) else comm
         self._make_preconditioner = preconditioner
         self._preconditioner: PETSc.KSP | None = None
+        self._operator: PETSc.Mat | None = None
         self._refresh = Refresh()
         self.tol, self.inner_rtol, self.inner_its = tol, inner_rtol, inner_its
         self._copy = KeptCopy()
@@ -144,13 +144,14 @@ class SchurSpectrum:
         S = PETSc.Mat().createPython(A.getSizes(), schur, comm=self.comm)
         S.setUp()
         D = _scaling(A)
-        inverse = _PrimalInverse(K, self._sets["p"], self._preconditioner_of(K), self.inner_rtol, self.inner_its)
-        projected = None
+        projection, unprojected = None, None
         if "Bz" in self._blocks:
-            projected = _Projected(S, self._blocks["Bz"], self._blocks["Bzt"], D.getDiagonal().max()[1])
-            S = PETSc.Mat().createPython(A.getSizes(), projected, comm=self.comm)
+            sigma = D.getDiagonal().max()[1]
+            projection = Projection(S, self._blocks["Bz"], self._blocks["Bzt"], sigma)
+            unprojected, S = S, PETSc.Mat().createPython(A.getSizes(), projection, comm=self.comm)
             S.setUp()
-            inverse.complement = projected
+        inverse = _PrimalInverse(K, self._sets["p"], self._preconditioner_of(K), self.inner_rtol, self.inner_its)
+        inverse.complement = projection
         try:
             nev = max(self.least, self._count + 1)
             while True:  # until a non-negative eigenvalue bounds the negative ones
@@ -164,8 +165,10 @@ class SchurSpectrum:
                 obj.destroy()
             schur.close()
             inverse.close()
-            if projected is not None:
-                projected.close()
+            if projection is not None:
+                projection.close()
+            if unprojected is not None:
+                unprojected.destroy()
         self.inner_iterations = inverse.iterations
         self._refresh.solved(inverse.most)
         self.lowest, self._count = values, negative
@@ -177,7 +180,10 @@ class SchurSpectrum:
             return None
         if self._preconditioner is None:
             self._preconditioner = self._make_preconditioner()
+        if K is not self._operator:  # a new pattern: a new matrix, and a set-up on it
             self._preconditioner.setOperators(K)
+            self._operator = K
+            self._refresh = Refresh()
         pc = self._preconditioner.getPC()
         if self._refresh.due():
             pc.setReusePreconditioner(False)
@@ -236,6 +242,7 @@ class SchurSpectrum:
             self._preconditioner.destroy()
             self._preconditioner = None
         self._copy.destroy()
+        self._operator = None
 
 
 def _scaling(A: PETSc.Mat) -> PETSc.Mat:
@@ -280,50 +287,6 @@ class _Schur:
             obj.destroy()
 
 
-class _Projected:
-    """S_P x = P S P x + σ (I - P) x, a petsc4py ``python`` matrix, with P = I - B_zᵀ (B_z B_zᵀ)⁻¹ B_z
-    the orthogonal projection on null(B_z) ((B_z B_zᵀ)⁻¹ by CG with Jacobi)."""
-
-    def __init__(self, S: PETSc.Mat, Bz: PETSc.Mat, Bzt: PETSc.Mat, sigma: float):
-        self.S, self.Bz, self.Bzt, self.sigma = S, Bz, Bzt, sigma
-        self.gram = Bz.matMult(Bzt)
-        self.ksp = PETSc.KSP().create(Bz.getComm())
-        self.ksp.setType("cg")
-        self.ksp.getPC().setType("jacobi")
-        self.ksp.setOperators(self.gram)
-        self.ksp.setTolerances(rtol=1e-12, atol=0.0, max_it=1000)
-        self.ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
-        self._b, self._z = self.gram.createVecs()
-        self._px, self._spx = S.createVecs()
-
-    def project(self, x: PETSc.Vec, y: PETSc.Vec) -> None:
-        """y = P x."""
-        self.Bz.mult(x, self._b)
-        self.ksp.solve(self._b, self._z)
-        if self.ksp.getConvergedReason() < 0:
-            raise Unsupported(f"CG on B_z B_z^T stopped ({self.ksp.getConvergedReason()}): the zero-block "
-                              "constraints are not independent")
-        self.Bzt.mult(self._z, y)
-        y.aypx(-1.0, x)
-
-    def mult(self, mat, x, y):
-        self.project(x, self._px)
-        self.S.mult(self._px, self._spx)
-        self.project(self._spx, y)
-        y.axpy(self.sigma, x)
-        y.axpy(-self.sigma, self._px)
-
-    def complement(self, x: PETSc.Vec, y: PETSc.Vec) -> None:
-        """y += (I - P) x / σ: the inverse of S_P off null(B_z)."""
-        self.project(x, self._px)
-        y.axpy(1.0 / self.sigma, x)
-        y.axpy(-1.0 / self.sigma, self._px)
-
-    def close(self) -> None:
-        for obj in (self.gram, self.ksp, self._b, self._z, self._px, self._spx):
-            obj.destroy()
-
-
 class _PrimalInverse:
     """A python PC on the primal unknowns: the primal part of y in K [y; w] = [x; 0], by FGMRES
     to ``rtol`` preconditioned by ``preconditioner`` (a full-size KSP applied once) or Jacobi."""
@@ -343,8 +306,8 @@ class _PrimalInverse:
         self.rhs, self.solution = K.createVecs()
         #: Krylov iterations, all and the most in one solve
         self.iterations = self.most = 0
-        #: the projection whose complement the inverse adds (zero-block multipliers), if any
-        self.complement: _Projected | None = None
+        #: the projection of zero-block multipliers that completes the inverse, if any
+        self.complement: Projection | None = None
 
     def apply(self, pc, x, y):
         self.rhs.zeroEntries()
@@ -360,7 +323,7 @@ class _PrimalInverse:
         part.copy(y)
         self.solution.restoreSubVector(self.primal, part)
         if self.complement is not None:
-            self.complement.complement(x, y)
+            self.complement.precondition(x, y)
 
     def matApply(self, pc, X, Y):
         """Column by column: SLEPc applies blocks of vectors."""
