@@ -44,6 +44,7 @@ from common import (
     pinned,
     provenance,
     provenance_note,
+    read_csv,
     render,
     render_again,
     save_figure,
@@ -63,6 +64,14 @@ NEWTON_PARTS = ("assembly", "discrete_terms", "factorisation", "linear_solve", "
 COLUMNS = ["scale", "size_wall", "ranks", "dofs", "F_tilde", "error", "wall_time_s", "newton_iterations",
            "newton_time_s", "time_per_iteration_s", "stability_time_s", "max_rss_rank_mb", "max_rss_total_mb",
            "mumps_mb_total", "mumps_flops"]
+#: the split's runs: a weak-scaling pair (about 6.6e4 dofs a rank) and the largest cell that
+#: fits this machine (about 1e6 dofs), each with LARGE_FLAGS
+LARGE = ({"name": "weak scaling, 1 rank", "ranks": 1, "sizes": (0.15, 0.05, 0.4)},
+         {"name": "weak scaling, 2 ranks", "ranks": 2, "sizes": (0.119, 0.0397, 0.317)},
+         {"name": "largest", "ranks": 1, "sizes": (0.058, 0.0193, 0.15)})
+LARGE_FLAGS = ["--strain-step", "0.05", "--solver", "split", "--stability", "none"]
+LARGE_COLUMNS = ["name", "ranks", "size_wall", "size_rim", "size_far", "dofs", "F_tilde", "wall_time_s",
+                 "newton_iterations", "assembly_s", "solver_s", "time_per_iteration_s", "peak_rss_rank_mb"]
 #: MUMPS's statistics of every factorisation of the loading stage (printed on stdout)
 MUMPS_REPORT = ["-bcfem_crater_cell_load_mat_mumps_icntl_4", "2"]
 MUMPS_MEMORY = re.compile(r"Memory effectively used, total in Mbytes\s+\(INFOG\(22\)\):\s+(\d+)")
@@ -73,6 +82,41 @@ def cell_args(scale: float) -> list[str]:
     return ["run", "crater-cell", "--lattice", "square", "--filling", repr(FILLING), "--preload", str(PRELOAD),
             "--size-wall", f"{DEFAULT['wall'] * scale:g}", "--size-rim", f"{DEFAULT['rim'] * scale:g}",
             "--size-far", f"{DEFAULT['far'] * scale:g}", "--quiet", "--no-plots"]
+
+
+def large_args(sizes: tuple[float, float, float]) -> list[str]:
+    wall, rim, far = sizes
+    return ["run", "crater-cell", "--lattice", "square", "--filling", "0.0490873852", "--preload", str(PRELOAD),
+            "--size-wall", f"{wall:g}", "--size-rim", f"{rim:g}", "--size-far", f"{far:g}", *LARGE_FLAGS, "--quiet",
+            "--no-plots"]
+
+
+def large_row(case: dict, summary: dict) -> dict:
+    """A row of the split's runs from a run's summary.json."""
+    split = summary["time_split_s"]
+    newton = sum(split.get(k, 0.0) for k in NEWTON_PARTS)
+    return {"name": case["name"], "ranks": case["ranks"], "size_wall": case["sizes"][0], "size_rim": case["sizes"][1],
+            "size_far": case["sizes"][2], "dofs": summary["dofs"], "F_tilde": summary["F_tilde"],
+            "wall_time_s": summary["wall_time_s"], "newton_iterations": summary["newton_iterations"],
+            "assembly_s": split["assembly"], "solver_s": newton - split["assembly"],
+            "time_per_iteration_s": newton / summary["newton_iterations"],
+            "peak_rss_rank_mb": max(summary["peak_rss_mb"])}
+
+
+def large(imported: dict[str, Path]) -> None:
+    """The LARGE runs (or, for a name in ``imported``, the summary.json of a run made with its
+    command) into docs/benchmarks/crater-cell-large.csv."""
+    rows = []
+    for c in LARGE:
+        if c["name"] in imported:
+            summary = json.loads((imported[c["name"]] / "summary.json").read_text())
+            assert summary["parameters"]["size_wall"] == c["sizes"][0], (c, summary["parameters"])
+        else:
+            with tempfile.TemporaryDirectory() as tmp:
+                summary = run([*large_args(c["sizes"]), "--out", str(Path(tmp) / "run")], c["ranks"])
+        rows.append(large_row(c, summary))
+        print(rows[-1], flush=True)
+    atomic_text(OUT / "crater-cell-large.csv", csv_text(rows, LARGE_COLUMNS))
 
 
 def worker(argv: list[str]) -> None:
@@ -175,8 +219,15 @@ def report(rows: list[dict], summary: dict) -> str:
                                   ("mumps_flops", "MUMPS operations per factorisation")) for ranks in RANKS]
     fit_table = table(fit_rows, [("quantity", "{what}"), ("ranks", "{ranks}"), ("exponent k (∝ dofs^k)", "{exponent:.2f}"),
                                  ("at 10^6 dofs", "{at_1e6:.3g}")])
+    large_path = OUT / "crater-cell-large.csv"
+    large_rows = read_csv(large_path) if large_path.exists() else []
+    large_table = table(large_rows, [
+        ("run", "{name}"), ("ranks", "{ranks}"), ("size wall / rim / far", "{size_wall:g} / {size_rim:g} / {size_far:g}"),
+        ("dofs", "{dofs:,}"), ("F~", "{F_tilde:.6f}"), ("wall time [s]", "{wall_time_s:.0f}"),
+        ("Newton its", "{newton_iterations}"), ("assembly [s]", "{assembly_s:.0f}"), ("solver [s]", "{solver_s:.0f}"),
+        ("s / Newton it", "{time_per_iteration_s:.2f}"), ("peak RSS per rank [MB]", "{peak_rss_rank_mb:.0f}")])
     return render("crater-cell.md", rows, summary, table=table(rows, columns), isolated=isolated_table,
-                  fits=fit_table, provenance=provenance_note(summary),
+                  fits=fit_table, large=large_table, provenance=provenance_note(summary),
                   order=("none (not monotone)" if summary["reference"]["order"] is None
                          else f"{summary['reference']['order']:.2f}"))
 
@@ -198,6 +249,14 @@ def figure(rows: list[dict]) -> None:
                   label=f"s / Newton iteration, {label}")
         cx.loglog([r["dofs"] for r in every], [r["max_rss_rank_mb"] / 1000 for r in every], style, mfc="none",
                   label=f"peak RSS per rank [GB], {label}")
+    large_path = OUT / "crater-cell-large.csv"
+    for r in read_csv(large_path) if large_path.exists() else []:
+        cx.loglog([r["dofs"]], [r["time_per_iteration_s"]], "^" if r["ranks"] == 1 else "v", color="C2",
+                  label=f"split, {r['name']}")
+    serial = [r for r in rows if r["ranks"] == 1]
+    n0, t0 = serial[0]["dofs"], serial[0]["time_per_iteration_s"]
+    n1 = max(1e6, serial[-1]["dofs"])
+    cx.loglog([n0, n1], [t0, t0 * n1 / n0], ":", color="gray", label="∝ dofs¹ (from the coarsest)")
     ax.set_xlabel("wall time [s]")
     bx.set_xlabel("dofs")
     cx.set_xlabel("dofs")
@@ -218,7 +277,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--render-only", action="store_true",
                         help="render crater-cell.md again from the crater-cell.csv and .json that are there")
-    if parser.parse_args().render_only:
+    parser.add_argument("--large", action="store_true",
+                        help="run the split's weak-scaling pair and the largest cell (LARGE; hours on 2 cores) "
+                             "into crater-cell-large.csv, then render the page again")
+    parser.add_argument("--import", dest="imported", nargs=2, action="append", default=[], metavar=("NAME", "DIR"),
+                        help="with --large: take the run NAME of LARGE from DIR (made with its command)")
+    args = parser.parse_args()
+    if args.large:
+        large({name: Path(d) for name, d in args.imported})
+        figure(read_csv(OUT / "crater-cell.csv"))
+    if args.render_only or args.large:
         render_again("crater-cell", report)
         return
     waited, busy = wait_idle(30)
