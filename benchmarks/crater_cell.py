@@ -70,7 +70,8 @@ LARGE = ({"name": "weak scaling, 1 rank", "ranks": 1, "sizes": (0.15, 0.05, 0.4)
          {"name": "weak scaling, 2 ranks", "ranks": 2, "sizes": (0.119, 0.0397, 0.317)},
          {"name": "largest", "ranks": 1, "sizes": (0.058, 0.0193, 0.15)})
 LARGE_FLAGS = ["--strain-step", "0.05", "--solver", "split", "--stability", "none"]
-LARGE_COLUMNS = ["name", "ranks", "size_wall", "size_rim", "size_far", "dofs", "F_tilde", "wall_time_s",
+LARGE_COLUMNS = ["name", "ranks", "size_wall", "size_rim", "size_far", "dofs", "status", "eps_reached", "F_tilde",
+                 "wall_time_s",
                  "newton_iterations", "assembly_s", "solver_s", "time_per_iteration_s", "peak_rss_rank_mb"]
 #: MUMPS's statistics of every factorisation of the loading stage (printed on stdout)
 MUMPS_REPORT = ["-bcfem_crater_cell_load_mat_mumps_icntl_4", "2"]
@@ -96,25 +97,35 @@ def large_row(case: dict, summary: dict) -> dict:
     split = summary["time_split_s"]
     newton = sum(split.get(k, 0.0) for k in NEWTON_PARTS)
     return {"name": case["name"], "ranks": case["ranks"], "size_wall": case["sizes"][0], "size_rim": case["sizes"][1],
-            "size_far": case["sizes"][2], "dofs": summary["dofs"], "F_tilde": summary["F_tilde"],
+            "size_far": case["sizes"][2], "dofs": summary["dofs"], "status": summary["status"],
+            "eps_reached": max(r["eps"] for r in summary_rows(summary)), "F_tilde": summary.get("F_tilde"),
             "wall_time_s": summary["wall_time_s"], "newton_iterations": summary["newton_iterations"],
             "assembly_s": split["assembly"], "solver_s": newton - split["assembly"],
             "time_per_iteration_s": newton / summary["newton_iterations"],
             "peak_rss_rank_mb": max(summary["peak_rss_mb"])}
 
 
+def summary_rows(summary: dict) -> list[dict]:
+    """The accepted rows of the run whose summary.json this is (its branch.csv beside it)."""
+    return read_csv(Path(summary["out"]) / "branch.csv")
+
+
+def large_case(case: dict, imported: Path | None) -> dict:
+    """The row of one LARGE run: run now, or read from ``imported`` (a run made with its command)."""
+    if imported is not None:
+        summary = json.loads((imported / "summary.json").read_text())
+        assert summary["parameters"]["size_wall"] == case["sizes"][0], (case, summary["parameters"])
+        return large_row(case, {**summary, "out": imported})
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "run"
+        return large_row(case, {**run([*large_args(case["sizes"]), "--out", str(out)], case["ranks"]), "out": out})
+
+
 def large(imported: dict[str, Path]) -> None:
-    """The LARGE runs (or, for a name in ``imported``, the summary.json of a run made with its
-    command) into docs/benchmarks/crater-cell-large.csv."""
+    """The LARGE runs into docs/benchmarks/crater-cell-large.csv (see :func:`large_case`)."""
     rows = []
-    for c in LARGE:
-        if c["name"] in imported:
-            summary = json.loads((imported[c["name"]] / "summary.json").read_text())
-            assert summary["parameters"]["size_wall"] == c["sizes"][0], (c, summary["parameters"])
-        else:
-            with tempfile.TemporaryDirectory() as tmp:
-                summary = run([*large_args(c["sizes"]), "--out", str(Path(tmp) / "run")], c["ranks"])
-        rows.append(large_row(c, summary))
+    for case in LARGE:
+        rows.append(large_case(case, imported.get(case["name"])))
         print(rows[-1], flush=True)
     atomic_text(OUT / "crater-cell-large.csv", csv_text(rows, LARGE_COLUMNS))
 
@@ -223,7 +234,8 @@ def report(rows: list[dict], summary: dict) -> str:
     large_rows = read_csv(large_path) if large_path.exists() else []
     large_table = table(large_rows, [
         ("run", "{name}"), ("ranks", "{ranks}"), ("size wall / rim / far", "{size_wall:g} / {size_rim:g} / {size_far:g}"),
-        ("dofs", "{dofs:,}"), ("F~", "{F_tilde:.6f}"), ("wall time [s]", "{wall_time_s:.0f}"),
+        ("dofs", "{dofs:,}"), ("status", "{status}"), ("largest eps", "{eps_reached:g}"),
+        ("F~", lambda r: "–" if r["F_tilde"] is None else f"{r['F_tilde']:.6f}"), ("wall time [s]", "{wall_time_s:.0f}"),
         ("Newton its", "{newton_iterations}"), ("assembly [s]", "{assembly_s:.0f}"), ("solver [s]", "{solver_s:.0f}"),
         ("s / Newton it", "{time_per_iteration_s:.2f}"), ("peak RSS per rank [MB]", "{peak_rss_rank_mb:.0f}")])
     return render("crater-cell.md", rows, summary, table=table(rows, columns), isolated=isolated_table,
