@@ -12,7 +12,7 @@ demo: venv
 	$(BIN)/bcfem run blister-rigid --material gent --Jm 100 --out results/blister-rigid
 
 PYTEST := $(BIN)/python -m pytest -q -p no:cacheprovider
-MPI_PYTEST := PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q
+MPI_PYTEST := OMP_NUM_THREADS=1 PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q
 
 # the fast tier: term battery, toys, every scene on a tiny mesh, CLI contracts, MPI on small cases
 test: venv

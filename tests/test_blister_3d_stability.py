@@ -116,6 +116,7 @@ def test_two_ranks_locate_the_serial_bifurcation_and_take_its_side():
 
 
 @pytest.mark.slow
+@pytest.mark.study  # a minute or more: make study
 def test_bifurcation_volume_converges_with_the_mesh():
     """The 4:1 rectangle's first bifurcation at sizes 0.1, 0.07 and 0.05: the differences shrink
     at an observed order (printed) above 1, and it stays past the maximum."""

@@ -146,6 +146,7 @@ def test_two_ranks_equal_serial(tmp_path):
 
 @pytest.mark.convergence
 @pytest.mark.serial
+@pytest.mark.study  # a minute or more: make study
 def test_p_max_converges_at_stiffness_ratio_1(tmp_path):
     """Halving every element size (contact size 0.04, 0.02, 0.01 R0) at the default ratio 1:
     P_max's changes shrink by more than 2 per halving (observed order > 1; the contact line's

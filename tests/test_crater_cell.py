@@ -115,7 +115,8 @@ def test_stability_none_skips_the_count_only():
 
 @pytest.mark.slow
 @pytest.mark.mpi
-@pytest.mark.parametrize(("fluid", "cell"), [("air", "quarter"), ("liquid", "eighth")])
+@pytest.mark.parametrize(("fluid", "cell"), [
+    ("air", "quarter"), pytest.param("liquid", "eighth", marks=pytest.mark.study)])  # the study: make study
 def test_the_split_and_the_spectrum_give_the_direct_cycle(fluid, cell, monkeypatch):
     """--solver split (FGMRES with the Schur split, its set-up kept) reaches MUMPS's cycle to the
     Krylov tolerance, and --stability spectrum finds it stable as MUMPS's inertia does, with no

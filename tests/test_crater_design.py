@@ -274,6 +274,7 @@ def test_the_dissertation_model_closes_where_it_says_whatever_beta():
 
 @slow
 @pytest.mark.serial
+@pytest.mark.study  # a minute or more: make study
 def test_a_reinforced_closure_does_not_depend_on_round_off(tmp_path):
     """Fig. 7.12d's lining (alpha' = 0.03, beta' = 80), closed and unloaded through snaps: the same
     F~ on 1 and 2 ranks, with another BLAS kernel and with a tighter Newton tolerance; physics,

@@ -139,6 +139,7 @@ def test_demo_mpi(demo, tmp_path):
 @pytest.mark.parametrize("demo", [d for d in DEMOS if d.stem in ("crater_air", "crater_design")], ids=lambda p: p.stem)
 @pytest.mark.slow
 @pytest.mark.demo
+@pytest.mark.study  # the scenes' tests check the dissertation's model; make study runs the demos on it
 def test_crater_demo_on_the_dissertation_model(demo, tmp_path):
     """The crater demos pass their own checks again on ``--specimen dissertation`` (4a, Q1-P0), on
     two ranks; the design maps' commands name that model."""

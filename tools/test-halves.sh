@@ -28,6 +28,7 @@ done < <(for f in tests/test_*.py; do
            w=$(awk -v f="$f" '$1 == f {print int($2 * 10 + 10)}' "$WEIGHTS"); echo "${w:-10} $f"
          done | sort -rn)
 one=$(mktemp) two=$(mktemp)
+export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1  # one process per core: no threads besides
 "$PY" -m pytest -q -p no:cacheprovider --durations=5 "$@" "${first[@]}" >"$one" 2>&1 & a=$!
 "$PY" -m pytest -q -p no:cacheprovider --durations=5 "$@" "${second[@]}" >"$two" 2>&1 & b=$!
 wait $a; sa=$?
