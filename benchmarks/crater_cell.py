@@ -68,7 +68,7 @@ COLUMNS = ["scale", "size_wall", "ranks", "dofs", "F_tilde", "error", "wall_time
 #: fits this machine (about 1e6 dofs), each with LARGE_FLAGS
 LARGE = ({"name": "weak scaling, 1 rank", "ranks": 1, "sizes": (0.15, 0.05, 0.4)},
          {"name": "weak scaling, 2 ranks", "ranks": 2, "sizes": (0.119, 0.0397, 0.317)},
-         {"name": "largest", "ranks": 1, "sizes": (0.058, 0.0193, 0.15)})
+         {"name": "largest", "ranks": 2, "sizes": (0.058, 0.0193, 0.15)})
 LARGE_FLAGS = ["--strain-step", "0.05", "--solver", "split", "--stability", "none"]
 LARGE_COLUMNS = ["name", "ranks", "size_wall", "size_rim", "size_far", "dofs", "status", "eps_reached", "F_tilde",
                  "wall_time_s",
