@@ -169,10 +169,10 @@ class Run:
         Nothing is written before a resumed run passes its last checkpoint."""
         if self.resuming:
             return
+        for writer in self._writers:  # the fields first: a row on disk has its fields on disk
+            writer.write(row.get("s", len(self.rows)))
         if self.journal is not None:
             self.journal.append(row)
-        for writer in self._writers:
-            writer.write(row.get("s", len(self.rows)))
 
     def _close_writers(self) -> None:
         for writer in self._writers:
