@@ -146,7 +146,9 @@ class SchurSpectrum:
         D = _scaling(A)
         projection, unprojected = None, None
         if "Bz" in self._blocks:
-            sigma = D.getDiagonal().max()[1]
+            diagonal = D.getDiagonal()
+            sigma = diagonal.max()[1]
+            diagonal.destroy()
             projection = Projection(S, self._blocks["Bz"], self._blocks["Bzt"], sigma)
             unprojected, S = S, PETSc.Mat().createPython(A.getSizes(), projection, comm=self.comm)
             S.setUp()
