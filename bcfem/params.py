@@ -102,7 +102,7 @@ class ContinuationParams:
     Attributes:
         ds: first step.
         ds_min: smallest step before the continuation gives up.
-        ds_max: largest step while |load| <= load_scale; beyond, it grows with |load|/load_scale.
+        ds_max: largest step while ``|load| <= load_scale``; beyond, it grows with ``|load|/load_scale``.
         target_iterations: Newton iterations per step that the step control aims at.
         max_steps: hard limit on accepted steps.
         event_tol: tolerance, in arc length, to which limit points and end points are located.

@@ -61,7 +61,7 @@ class PlanarMembrane(ReferenceMean):
         uniaxial = lam1**2 + 2 / lam1
         self.I1 = (ufl.conditional(self.wrinkled, uniaxial + residual * (self.taut_I1 - uniaxial), self.taut_I1)
                    if relaxed else self.taut_I1)
-        #: area vector of the current surface per reference area, x_,1 × x_,2 (points to +z when flat)
+        #: area vector of the current surface per reference area, ``x_,1 × x_,2`` (points to +z when flat)
         self.area_vector = ufl.cross(self.F[:, 0], self.F[:, 1])
         self.z = u[2]
         self._dx = ufl.Measure("dx", domain=mesh, subdomain_data=cell_tags,

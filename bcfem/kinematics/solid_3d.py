@@ -40,7 +40,7 @@ class Solid3D(ReferenceMean):
         self.I1 = ufl.tr(self.F.T * self.F)
         self.normal = ufl.FacetNormal(mesh)
         self._cofactor_normal = self.J * ufl.inv(self.F).T * self.normal
-        #: current area per reference area of the boundary, |cof(F) N|
+        #: current area per reference area of the boundary, ``|cof(F) N|``
         self.surface_stretch = ufl.sqrt(ufl.inner(self._cofactor_normal, self._cofactor_normal))
         #: current height z = Z + u_z
         self.height = self.x[VERTICAL] + u[VERTICAL]

@@ -22,7 +22,7 @@ if TYPE_CHECKING:
 
 
 class Viscosity(Term):
-    """The proximal term (c/2) ∫ |u - u_prev|² dV; c = 0 (off) unless relaxing.
+    """The proximal term ``(c/2) ∫ |u - u_prev|² dV``; c = 0 (off) unless relaxing.
 
     The viscosity c is the run-time constant ``viscosity``; no states are added."""
 
