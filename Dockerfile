@@ -2,6 +2,7 @@
 # creates .venv and pip-installs bcfem with its extras.
 #   docker build -t bcfem .
 #   docker run bcfem make test
+# The image holds the site too: /opt/bcfem/docs/_build/html (make docs).
 # Without Docker: tools/container-check.sh runs this file's steps in a Debian
 # bookworm chroot (docs/docker.md). It reads APT_PACKAGES, ENV, WORKDIR, the RUN
 # lines and CMD from here, so keep to those instructions (and COPY . .).
@@ -29,7 +30,8 @@ RUN apt-get update \
 WORKDIR /opt/bcfem
 COPY . .
 RUN PYTHON=python3.12 ./tools/bootstrap.sh \
- && .venv/bin/python -c "import bcfem, dolfinx; print('bcfem', bcfem.__version__, 'dolfinx', dolfinx.__version__)"
+ && .venv/bin/python -c "import bcfem, dolfinx; print('bcfem', bcfem.__version__, 'dolfinx', dolfinx.__version__)" \
+ && make docs
 
 ENV PATH=/opt/bcfem/.venv/bin:$PATH \
     OMPI_ALLOW_RUN_AS_ROOT=1 \

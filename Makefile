@@ -3,7 +3,7 @@ VENV  ?= .venv
 BIN   := $(VENV)/bin
 NP    ?= 2
 
-.PHONY: venv demo test test-all study bench profile report clean
+.PHONY: venv demo test test-all study bench profile report docs docs-check clean
 
 venv:
 	@./tools/bootstrap.sh
@@ -27,6 +27,15 @@ test-all: venv
 	$(BIN)/mypy
 	BCFEM_FULL_DRAW=1 WEIGHTS=tools/test-durations-all.txt ./tools/test-halves.sh -m "not study" --durations=20
 	$(MPI_PYTEST) -m "mpi and not study" tests
+	$(MAKE) docs-check
+
+# the site, docs/_build/html (warnings are errors): the docs, a page per scene, demo and tutorial,
+# the API reference; docs-check opens every page in headless Chromium (tools/check_site.py)
+docs: venv
+	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html
+
+docs-check: docs
+	$(BIN)/python tools/check_site.py docs/_build/html
 
 # checks of a minute or more each (contact cycles, plate contact in a cell, the demos in serial): not in CI
 study: venv
@@ -72,4 +81,4 @@ report: venv
 	@for d in $(DISSERTATION_MODEL_DEMOS); do echo "== $$d --dissertation-model"; PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) $(BIN)/python demos/$$d.py --quiet --full --dissertation-model --out docs/figures/$${d}_dissertation || exit 1; done
 
 clean:
-	rm -rf results .pytest_cache
+	rm -rf results .pytest_cache docs/_build docs/_generated

@@ -1,0 +1,150 @@
+"""The site's generated pages: one per scene, from the command line's own parser (so a page and
+``bcfem run SCENE --help`` cannot drift), and one per demo and tutorial, from its jupytext
+percent source (prose, equations, code) with the figures ``make report`` committed.
+
+``write_pages(docs)`` writes them under ``docs/_generated/`` (not tracked); ``docs/conf.py``
+calls it before Sphinx reads the sources.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+#: a scene's benchmark page, where it is not named after the scene
+BENCHMARK = {"crater": "crater-air"}
+GENERATED = "_generated"
+#: characters Markdown would read as markup in a help text
+_MARKUP = re.compile(r"([\\`*_\[\]<>|{}#])")
+
+
+def escape(text: str) -> str:
+    """``text`` as literal Markdown (one line)."""
+    return _MARKUP.sub(r"\\\1", " ".join(text.split()))
+
+
+def unescape(text: str) -> str:
+    return re.sub(r"\\(.)", r"\1", text)
+
+
+def scene_parsers() -> dict[str, argparse.ArgumentParser]:
+    """``bcfem run SCENE``'s parser of every scene."""
+    from bcfem.arguments import build_parser
+
+    def choices(parser):
+        return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+
+    return dict(choices(choices(build_parser())["run"]))
+
+
+def parameter_rows(parser: argparse.ArgumentParser) -> list[tuple[str, str]]:
+    """(flags, help) of every option of a scene's parser, as ``--help`` prints them (but -h)."""
+    return [(", ".join(a.option_strings), " ".join((a.help or "").split()))
+            for a in parser._actions if a.option_strings and a.dest != "help"]
+
+
+def scene_page(name: str, parser: argparse.ArgumentParser) -> str:
+    from mpi4py import MPI
+
+    from bcfem.scenes import REGISTRY
+
+    module = REGISTRY[name]
+    package = module.__name__
+    stages = getattr(module.build(module.Params(), MPI.COMM_SELF), "stages", ())
+    lines = [f"# `{name}`", "", f"{escape(module.SUMMARY)[0].upper()}{escape(module.SUMMARY)[1:]}.", "",
+             f"`bcfem run {name} --help` prints this page's model, parameters and columns; "
+             f"the scene's code is {{py:mod}}`{package}`.", "",
+             "## The model", "", "```text", module.DESCRIPTION, "```", "",
+             "## Stages", "",
+             "With the default parameters the run goes through the stages "
+             + ", ".join(f"`{s}`" for s in stages)
+             + " (`summary.json`'s `stages` records each one's end; PETSc prefix `bcfem_"
+             + name.replace("-", "_") + "_<stage>_`).", "",
+             "## Parameters", "",
+             "Units in brackets; the range a value must lie in (bad input exits 2 before meshing).", "",
+             "| flag | meaning, unit, range (default) |", "|---|---|"]
+    lines += [f"| `{flags}` | {escape(text)} |" for flags, text in parameter_rows(parser)]
+    lines += ["", "## Outputs", "",
+              "`summary.json`, `branch.csv` (one row per accepted state, on disk as it is accepted), "
+              "`fields.bp` (VTX) and the scene's PNGs, as every run writes them (the README's "
+              "*What a run writes*). The columns of `branch.csv`:", "",
+              "| column | unit | meaning |", "|---|---|---|"]
+    for column in module.COLUMNS:
+        if isinstance(column, str):
+            lines.append(f"| `{column}` | | |")
+        else:
+            lines.append(f"| `{column.name}` | {escape(column.unit)} | {escape(column.meaning)} |")
+    slug = BENCHMARK.get(name, name)
+    plot = ROOT / "docs" / "benchmarks" / f"{slug}.png"
+    if plot.exists():
+        lines += ["", "## Error against run time", "",
+                  f"From `make bench` ([the benchmark's page](../../benchmarks/{slug}.md)):", "",
+                  f"![{name}: error against wall time](../../benchmarks/{slug}.png)"]
+    return "\n".join(lines) + "\n"
+
+
+def figures_of(stem: str) -> list[Path]:
+    """The PNGs ``make report`` committed for demo ``stem`` (its own run and, for the crater
+    demos, the run on the dissertation's FE model)."""
+    found = []
+    for folder in (stem, f"{stem}_dissertation"):
+        found += sorted((ROOT / "docs" / "figures" / folder).glob("*.png"))
+    return found
+
+
+def notebook_page(source: Path, kind: str) -> str:
+    """A demo's or tutorial's page: its markdown cells as prose, its code cells as code, then its
+    committed figures; ``{{ name }}`` in the prose reads the demo's ``summary.json`` results."""
+    import jupytext
+
+    notebook = jupytext.read(source)
+    summary = ROOT / "docs" / "figures" / source.stem / "summary.json"
+    values = json.loads(summary.read_text()).get("results", {}) if summary.exists() else {}
+    parts = []
+    for cell in notebook.cells:
+        text = cell.source.strip("\n")
+        if not text:
+            continue
+        if cell.cell_type == "markdown":
+            parts.append(re.sub(r"\{\{\s*(\w+)\s*\}\}", lambda m: _quoted(values, m.group(1), source), text))
+        else:
+            parts.append(f"```python\n{text}\n```")
+    relative = source.relative_to(ROOT)
+    parts.append(f"Run it: `python {relative} --help` for its flags; every demo also runs under "
+                 f"`mpirun -n 2`. The source: `{relative}`.")
+    shown = figures_of(source.stem)
+    if shown:
+        parts.append("## Figures\n\nAs `make report` draws them (`docs/figures/`):")
+        parts += [f"![{png.stem}](../../figures/{png.parent.name}/{png.name})" for png in shown]
+    return "\n\n".join(parts) + "\n"
+
+
+def _quoted(values: dict, key: str, source: Path) -> str:
+    if key not in values:
+        raise KeyError(f"{source.name}: the prose quotes {key!r}, which its summary.json's results lack")
+    value = values[key]
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
+
+
+def write_pages(docs: Path) -> dict[str, list[str]]:
+    """Write every generated page; returns the page names by section."""
+    out = docs / GENERATED
+    written: dict[str, list[str]] = {"scenes": [], "demos": [], "tutorials": []}
+    for name, parser in scene_parsers().items():
+        _write(out / "scenes" / f"{name}.md", scene_page(name, parser))
+        written["scenes"].append(name)
+    for kind in ("demos", "tutorials"):
+        for source in sorted((ROOT / kind).glob("[!_]*.py")):
+            _write(out / kind / f"{source.stem}.md", notebook_page(source, kind))
+            written[kind].append(source.stem)
+    return written
+
+
+def _write(path: Path, text: str) -> None:
+    """Write only a change, so that Sphinx rebuilds only what changed."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)

@@ -1,0 +1,49 @@
+"""The site's scene pages against ``bcfem run SCENE --help``: both come from the same parser,
+and a page's parameter rows must read as the help's, range and unit included."""
+
+import re
+import sys
+from pathlib import Path
+
+import pytest
+from helpers import bcfem
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "docs" / "_ext"))
+import bcfem_pages
+
+SCENES = bcfem_pages.scene_parsers()
+
+
+def page_rows(page: str) -> dict[str, str]:
+    """flag -> text of a scene page's parameter table."""
+    rows = re.findall(r"^\| `(--[^`]+)` \| (.*) \|$", page, flags=re.MULTILINE)
+    return {flag.split(",")[0]: bcfem_pages.unescape(text) for flag, text in rows}
+
+
+def help_entries(text: str) -> dict[str, str]:
+    """flag -> its help text, from ``--help``'s options section (one flag per entry)."""
+    options = text.split("options:", 1)[1].split("\n\n", 1)[0]
+    entries: dict[str, str] = {}
+    flag = None
+    for line in options.splitlines():
+        match = re.match(r"^  (--?[\w-]+)(?:, --[\w-]+)?(?: [A-Z_{},.\w-]+)?(?:  +(.*))?$", line)
+        if match:
+            flag = match.group(1)
+            entries[flag] = match.group(2) or ""
+        elif flag:
+            entries[flag] += " " + line.strip()
+    return {f: " ".join(t.split()) for f, t in entries.items()}
+
+
+@pytest.mark.parametrize("scene", sorted(SCENES))
+def test_a_scene_page_states_each_parameter_as_help_does(scene):
+    page = bcfem_pages.scene_page(scene, SCENES[scene])
+    rows = page_rows(page)
+    res = bcfem("run", scene, "--help", env={"COLUMNS": "100000"})
+    assert res.returncode == 0, res.stderr
+    helped = help_entries(res.stdout)
+    assert set(rows) == set(helped) - {"-h"}, "the page and --help list other flags"
+    for flag, text in rows.items():
+        assert text == helped[flag], f"{scene} {flag}: the page says {text!r}, --help {helped[flag]!r}"
+    ranged = [text for text in rows.values() if re.search(r"; in [\[(]", text)]
+    assert ranged, "no parameter states a range"
