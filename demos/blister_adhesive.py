@@ -19,7 +19,7 @@
 # $$
 # \Pi[\boldsymbol u, R_1] = \int_0^{R_1} \bigl[t_0\, W(I_1) + \gamma_l\,\lambda_r\lambda_\theta\bigr]
 #   \, 2\pi R\, \mathrm{d}R \;-\; \Delta p\, V[\boldsymbol u]
-#   \;+\; (\gamma_{ls} - \Delta\gamma)\,\pi r_1^2,
+#   \;+\; (\gamma_{ls} - \Delta\gamma)\,\pi r_1^2, \tag{3.42}
 # $$
 #
 # with $r = R + u_r$, $z = u_z$, $\lambda_r = \sqrt{r'^2 + z'^2}$,
@@ -300,12 +300,19 @@ for key in ("Vc_gent-Jm100", "Vc_gent-Jm100_later_sentence", "Vc_neo-hookean"):
            f"({100 * compare[key]['relative_difference']:+.1f} %)")
 
 # %% [markdown]
-# What this shows (numbers in `summary.json`): the onset volumes agree with the
-# dissertation's 1.27 and 3.06 to 0.2 %; its later "1.17" for the same Gent case
-# does not (8 %). At $V/V_0 = 3$ our $F$ is 12.67 with and 13.29 without
-# propagation: the first is 5 % below the printed 13.4, the second less than
-# half of 29.4. No candidate reproduces 29.4 ($\Pi$: 4.22 and 3.02;
-# $F + \Delta p V$: 21.1 and 23.6). The order described for Fig. 3.13b is that of
+# What this shows (the numbers are this demo's `summary.json`'s): the onset
+# volumes $V_c/V_0$ = {{ dissertation_comparison.Vc_gent-Jm100.ours:.3f }} (Gent) and
+# {{ dissertation_comparison.Vc_neo-hookean.ours:.3f }} (neo-Hookean) agree with the dissertation's 1.27
+# and 3.06 ({{ dissertation_comparison.Vc_gent-Jm100.relative_difference:+.1%}} and
+# {{ dissertation_comparison.Vc_neo-hookean.relative_difference:+.1%}}); its later "1.17" for the same
+# Gent case does not ({{ dissertation_comparison.Vc_gent-Jm100_later_sentence.relative_difference:+.0%}}).
+# At $V/V_0 = 3$ our $F$ is {{ dissertation_comparison.energy_at_V3_gent.ours.F.with_propagation:.2f }} with and
+# {{ dissertation_comparison.energy_at_V3_gent.ours.F.without_propagation:.2f }} without propagation: the first is
+# {{ dissertation_comparison.energy_at_V3_gent.relative_difference_F.with_propagation:+.0%}} from the printed 13.4, the second
+# less than half of 29.4. No candidate reproduces 29.4 ($\Pi$:
+# {{ dissertation_comparison.energy_at_V3_gent.ours.Pi.with_propagation:.2f }} and {{ dissertation_comparison.energy_at_V3_gent.ours.Pi.without_propagation:.2f }};
+# $F + \Delta p V$: {{ dissertation_comparison.energy_at_V3_gent.ours.F_plus_dpV.with_propagation:.1f }} and
+# {{ dissertation_comparison.energy_at_V3_gent.ours.F_plus_dpV.without_propagation:.1f }}). The order described for Fig. 3.13b is that of
 # $F + c\,\Delta p V$ with $c > 0$, for instance $\Pi$ with the sign of the
 # pressure work flipped, but not its printed values; with the Helmholtz free
 # energy $F$, the right potential at fixed volume, propagation is never worse

@@ -17,7 +17,7 @@
 # $$
 # \Pi[\boldsymbol u, R_1] = \int_0^{R_1} \bigl[t_0\, W(I_1) + \gamma_l\,\lambda_r\lambda_\theta\bigr]
 #   \, 2\pi R\, \mathrm{d}R \;-\; \Delta p\, V[\boldsymbol u]
-#   \;+\; (\gamma_{ls} - \Delta\gamma)\,\pi r_1^2 ,
+#   \;+\; (\gamma_{ls} - \Delta\gamma)\,\pi r_1^2 , \tag{3.42}
 # $$
 #
 # $R_1$ held at $R_0$ until the energy release rate $-\partial\Pi/\partial R_1$

@@ -47,3 +47,22 @@ def test_a_scene_page_states_each_parameter_as_help_does(scene):
         assert text == helped[flag], f"{scene} {flag}: the page says {text!r}, --help {helped[flag]!r}"
     ranged = [text for text in rows.values() if re.search(r"; in [\[(]", text)]
     assert ranged, "no parameter states a range"
+
+
+def test_a_demo_page_quotes_the_numbers_its_run_wrote(tmp_path):
+    """``{{ path:fmt }}`` in a demo's prose is the value in its summary.json, and a path the
+    summary lacks stops the build with the demo's name."""
+    import json
+
+    demo = bcfem_pages.ROOT / "demos" / "blister_adhesive.py"
+    summary = json.loads((bcfem_pages.ROOT / "docs" / "figures" / "blister_adhesive" / "summary.json").read_text())
+    page = bcfem_pages.notebook_page(demo, "demos")
+    assert "{{" not in page
+    onset = summary["dissertation_comparison"]["Vc_neo-hookean"]["ours"]
+    assert f"{onset:.3f} (neo-Hookean)" in page
+    tutorial = bcfem_pages.notebook_page(bcfem_pages.ROOT / "tutorials" / "add_a_term.py", "tutorials")
+    assert "{py:obj}`bcfem.Term`" in tutorial, "a public name in the prose links to the API reference"
+    broken = tmp_path / "blister_adhesive.py"
+    broken.write_text(demo.read_text().replace("Vc_neo-hookean.ours", "Vc_neo-hookean.missing", 1))
+    with pytest.raises(KeyError, match="blister_adhesive.py: the prose quotes"):
+        bcfem_pages.notebook_page(broken, "demos")

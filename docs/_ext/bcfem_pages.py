@@ -58,6 +58,8 @@ def scene_page(name: str, parser: argparse.ArgumentParser) -> str:
              f"`bcfem run {name} --help` prints this page's model, parameters and columns; "
              f"the scene's code is {{py:mod}}`{package}`.", "",
              "## The model", "", "```text", module.DESCRIPTION, "```", "",
+             "## Its energy", "", "```{eval-rst}", f".. automodule:: {model_module(package)}", "   :no-members:",
+             "```", "",
              "## Stages", "",
              "With the default parameters the run goes through the stages "
              + ", ".join(f"`{s}`" for s in stages)
@@ -86,6 +88,15 @@ def scene_page(name: str, parser: argparse.ArgumentParser) -> str:
     return "\n".join(lines) + "\n"
 
 
+def model_module(package: str) -> str:
+    """The module whose docstring states a scene's energy: its ``model``, else the scene's own."""
+    import importlib
+
+    module = importlib.import_module(package)
+    return f"{package}.model" if hasattr(module, "__path__") and (Path(module.__path__[0]) / "model.py").exists() \
+        else package
+
+
 def figures_of(stem: str) -> list[Path]:
     """The PNGs ``make report`` committed for demo ``stem`` (its own run and, for the crater
     demos, the run on the dissertation's FE model)."""
@@ -97,19 +108,23 @@ def figures_of(stem: str) -> list[Path]:
 
 def notebook_page(source: Path, kind: str) -> str:
     """A demo's or tutorial's page: its markdown cells as prose, its code cells as code, then its
-    committed figures; ``{{ name }}`` in the prose reads the demo's ``summary.json`` results."""
+    committed figures. In the prose, ``{{ a.b.c:fmt }}`` is the value at a.b.c of the demo's
+    ``summary.json`` (``docs/figures/<demo>/``), formatted by ``fmt`` (default ``.4g``), so that a
+    quoted number is the computed one; `bcfem.Name` (or `Name`) of a public name links to the
+    API reference."""
     import jupytext
 
     notebook = jupytext.read(source)
-    summary = ROOT / "docs" / "figures" / source.stem / "summary.json"
-    values = json.loads(summary.read_text()).get("results", {}) if summary.exists() else {}
+    summary_file = ROOT / "docs" / "figures" / source.stem / "summary.json"
+    summary = json.loads(summary_file.read_text()) if summary_file.exists() else {}
     parts = []
     for cell in notebook.cells:
         text = cell.source.strip("\n")
         if not text:
             continue
         if cell.cell_type == "markdown":
-            parts.append(re.sub(r"\{\{\s*(\w+)\s*\}\}", lambda m: _quoted(values, m.group(1), source), text))
+            text = _QUOTED.sub(lambda m: _quoted(summary, m.group(1), m.group(2), source), text)
+            parts.append(_API_NAME.sub(_api_link, text))
         else:
             parts.append(f"```python\n{text}\n```")
     relative = source.relative_to(ROOT)
@@ -122,11 +137,25 @@ def notebook_page(source: Path, kind: str) -> str:
     return "\n\n".join(parts) + "\n"
 
 
-def _quoted(values: dict, key: str, source: Path) -> str:
-    if key not in values:
-        raise KeyError(f"{source.name}: the prose quotes {key!r}, which its summary.json's results lack")
-    value = values[key]
-    return f"{value:.4g}" if isinstance(value, float) else str(value)
+_QUOTED = re.compile(r"\{\{\s*([\w.\-]+)(?::([^}\s]+))?\s*\}\}")
+_API_NAME = re.compile(r"`(?:bcfem\.)?([A-Z]\w+)`")
+
+
+def _quoted(summary: dict, path: str, spec: str | None, source: Path) -> str:
+    value = summary
+    for key in path.split("."):
+        if not isinstance(value, dict) or key not in value:
+            raise KeyError(f"{source.name}: the prose quotes {path!r}, which docs/figures/{source.stem}/"
+                           f"summary.json lacks (make report writes it)")
+        value = value[key]
+    return format(value, spec or (".4g" if isinstance(value, float) else ""))
+
+
+def _api_link(match: re.Match) -> str:
+    import bcfem
+
+    name = match.group(1)
+    return f"{{py:obj}}`bcfem.{name}`" if name in bcfem.__all__ else match.group(0)
 
 
 def write_pages(docs: Path) -> dict[str, list[str]]:

@@ -1,6 +1,15 @@
-"""The three-dimensional blister: a membrane on its flat reference outline, clamped along
+r"""The three-dimensional blister: a membrane on its flat reference outline, clamped along
 it, inflated at a pressure traced by arc-length (the terms of ``blister-rigid`` on
-:class:`bcfem.kinematics.planar_membrane.PlanarMembrane` kinematics)."""
+:class:`bcfem.kinematics.planar_membrane.PlanarMembrane` kinematics).
+
+Over the debonded region Ω (the outline, or the adhesive front's region):
+
+.. math:: \Pi = \int_\Omega t_0 W(I_1)\,dA - \Delta p\,V + \gamma_l\int_\Omega da
+          + \int_\Omega (\gamma_{ls} - \Delta\gamma(X))\,dA,
+
+W the Gent, neo-Hookean or Mooney-Rivlin density of the incompressible membrane (relaxed
+where it wrinkles, with ``--wrinkles relaxed``), da the current area, the last term the cost of
+the debonded substrate (adhesive outlines only)."""
 
 from __future__ import annotations
 

@@ -10,6 +10,19 @@ and may not pass through itself (penalty self-contact, :mod:`bcfem.contact.self_
 A surface energy γ on the wall gives its creases a length scale. The crater fluid is
 a term of the unloading stage (:mod:`bcfem.physics.fluids`); units: pressures in p_a (so
 μ/p_a = β), lengths in mm.
+
+The Lagrangian, over the axisymmetric specimen Ω with the crater wall Γ_w:
+
+.. math:: L(u, p_s, p) = \int_\Omega W(F, p_s)\,dV + \gamma\int_{\Gamma_w} da
+          + \Pi_f(V(u), p) + \Pi_c(u),
+
+W the nearly incompressible neo-Hookean density with μ = β and its mixed pressure p_s
+(:class:`bcfem.physics.energies.SolidStrain`), da the wall's current area
+(:class:`bcfem.physics.energies.SolidSurfaceEnergy`), V(u) the crater's volume. While loading
+the crater is vented (Π_f = 0); sealed, Π_f is the fluid's: air :math:`-(p-1)V + V_1\ln p`,
+a liquid :math:`-(p-1)(V-V_1)`, a closed crater :math:`sV` (:mod:`bcfem.physics.fluids`).
+Π_c is the wall's penalty self-contact; the platen u_z = -εH on the top face and the plate
+z >= 0 are conditions, not energies.
 """
 
 from __future__ import annotations

@@ -12,6 +12,16 @@ walls are in frictionless contact with the plate, z = Z + ũ_z >= 0 as bounds of
 variational-inequality solver. Each quarter crater is a cavity of its own
 (:class:`bcfem.physics.cavity.Cavity`, with the crater scene's contact gap, so that a wall on the plate
 is not wetted), sealed with its own fluid. Pressures in p_a (μ/p_a = β), lengths in mm.
+
+The Lagrangian of the cell Ω, with the lateral strains e = (e_x, e_y) unknowns:
+
+.. math:: L(\tilde u, e, p_s, \lambda, p_k) = \int_\Omega W(F, p_s)\,dV
+          + \gamma\int_{\Gamma_w} da + \int_{\Gamma_m} \lambda\,u\cdot n\,dA
+          + \sum_k \Pi_f(V_k(u), p_k),
+
+W the nearly incompressible neo-Hookean density with μ = β and its mixed pressure p_s, the
+walls' surface energy γ (optional), the diagonal mirror Γ_m of the eighth cell (λ its
+traction), and each crater's fluid as in ``crater`` (vented while loading, sealed after).
 """
 
 from __future__ import annotations

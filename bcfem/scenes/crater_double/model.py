@@ -1,4 +1,4 @@
-"""The crater model on the double-chamber geometry: the same terms, contact with the plate
+r"""The crater model on the double-chamber geometry: the same terms, contact with the plate
 and self-contact, on a wall of three tagged parts (sidewall, roof, protuberance), so that
 the sidewall's contact with the protuberance is the wall's self-contact.
 
@@ -11,7 +11,15 @@ With ``bottom = contact`` the bottom face out to the seal's reach bounds the cav
 is tagged :data:`SEALED_BOTTOM`, not the single crater's tag, which is the sidewall's here), and
 the wetted area is dV/d(lift of the whole specimen), the annulus between the protuberance's
 footprint and the sealed contact line: C2 is enclosed by the specimen, so its volume does not
-change with a lift, and dV/d(lift) = dV_C1/d(lift)."""
+change with a lift, and dV/d(lift) = dV_C1/d(lift).
+
+The Lagrangian is the crater's (:mod:`bcfem.scenes.crater.model`) with one fluid term per
+chamber:
+
+.. math:: L = \int_\Omega W(F, p_s)\,dV + \gamma\int_{\Gamma_w} da
+          + \sum_{i} \Pi_f(V_{C_i}(u), p_i) + \Pi_c(u),
+
+one chamber (the whole cavity) until the sidewall touches the protuberance, C1 and C2 after."""
 
 from __future__ import annotations
 

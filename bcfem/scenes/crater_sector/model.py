@@ -1,4 +1,4 @@
-"""The wedge's states, kinematics, mirror and plate conditions and solid terms, and the Fourier
+r"""The wedge's states, kinematics, mirror and plate conditions and solid terms, and the Fourier
 content of its wall: what every path of :mod:`bcfem.scenes.crater_sector` starts from.
 
 The face theta = 0 is the plane y = 0, held by u_y = 0. The face theta = pi/m is a coordinate
@@ -7,6 +7,15 @@ as before. For m >= 3 its normal n = (-sin pi/m, cos pi/m, 0) mixes two componen
 is a Lagrange multiplier field on the face (:class:`MirrorPlane`), which keeps the energy's exact
 tangent and the symmetric saddle-point form MUMPS's LDL^T already factorises for the fluids'
 pressures; it needs no penalty or Nitsche parameter, and no change of basis inside the solver.
+
+The Lagrangian of the wedge Ω (the specimen, and a lining of k times its modulus):
+
+.. math:: L = \int_{\Omega_s} W_\beta(F, p_s)\,dV + \int_{\Omega_l} W_{k\beta}(F, p_s)\,dV
+          + \int_{\Gamma_m} \lambda\,u\cdot n\,dA + \Pi_f(V(u), p),
+
+Γ_m the oblique mirror (m >= 3; λ its traction), and the fluid's term as in ``crater`` on the
+cycle, or on the drawn path a liquid of which the fraction r is drawn off,
+:math:`-(p-1)(V - (1-r)V_0)`.
 """
 
 from __future__ import annotations
