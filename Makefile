@@ -14,12 +14,14 @@ demo: venv
 PYTEST := $(BIN)/python -m pytest -q -p no:cacheprovider
 MPI_PYTEST := OMP_NUM_THREADS=1 PATH=$(abspath $(BIN)):$$PATH $(BIN)/mpirun -n $(NP) ./tools/pytest-mpi.sh -q
 
-# the fast tier: term battery, toys, every scene on a tiny mesh, CLI contracts, MPI on small cases
+# the fast tier: term battery, toys, every scene on a tiny mesh, CLI contracts, MPI on small cases;
+# each test runs once: one marked mpi on NP ranks only (its physics asserted there), unless serial
+FAST := not slow and not convergence and not demo and not study
 test: venv
 	$(BIN)/ruff check .
 	$(BIN)/mypy
-	./tools/test-halves.sh
-	$(MPI_PYTEST) -m "mpi and not slow and not convergence and not demo and not study" tests
+	./tools/test-halves.sh -m "$(FAST) and (serial or not mpi)"
+	$(MPI_PYTEST) -m "mpi and $(FAST)" tests
 
 # everything: adds full crater cycles, convergence studies and the demos on NP ranks
 test-all: venv
