@@ -16,11 +16,11 @@
 # Over the axisymmetric displacement $\boldsymbol u = (u_r, u_z)(R)$ on
 # $R \in [0, R_1]$ the free energy is (eq. 3.42)
 #
-# $$
-# \Pi[\boldsymbol u, R_1] = \int_0^{R_1} \bigl[t_0\, W(I_1) + \gamma_l\,\lambda_r\lambda_\theta\bigr]
-#   \, 2\pi R\, \mathrm{d}R \;-\; \Delta p\, V[\boldsymbol u]
-#   \;+\; (\gamma_{ls} - \Delta\gamma)\,\pi r_1^2, \tag{3.42}
-# $$
+# \begin{align*}
+# \Pi[\boldsymbol u, R_1] = {} & \int_0^{R_1} \bigl[t_0\, W(I_1) + \gamma_l\,\lambda_r\lambda_\theta\bigr]
+#   \, 2\pi R\, \mathrm{d}R \\
+#   & - \Delta p\, V[\boldsymbol u] + (\gamma_{ls} - \Delta\gamma)\,\pi r_1^2, \tag{3.42}
+# \end{align*}
 #
 # with $r = R + u_r$, $z = u_z$, $\lambda_r = \sqrt{r'^2 + z'^2}$,
 # $\lambda_\theta = r/R$, $I_1 = \lambda_r^2 + \lambda_\theta^2 +

@@ -14,11 +14,11 @@
 # or neo-Hookean) over a liquid on a rigid substrate, debonded over
 # $R < R_1$, with the free energy (eq. 3.42)
 #
-# $$
-# \Pi[\boldsymbol u, R_1] = \int_0^{R_1} \bigl[t_0\, W(I_1) + \gamma_l\,\lambda_r\lambda_\theta\bigr]
-#   \, 2\pi R\, \mathrm{d}R \;-\; \Delta p\, V[\boldsymbol u]
-#   \;+\; (\gamma_{ls} - \Delta\gamma)\,\pi r_1^2 , \tag{3.42}
-# $$
+# \begin{align*}
+# \Pi[\boldsymbol u, R_1] = {} & \int_0^{R_1} \bigl[t_0\, W(I_1) + \gamma_l\,\lambda_r\lambda_\theta\bigr]
+#   \, 2\pi R\, \mathrm{d}R \\
+#   & - \Delta p\, V[\boldsymbol u] + (\gamma_{ls} - \Delta\gamma)\,\pi r_1^2, \tag{3.42}
+# \end{align*}
 #
 # $R_1$ held at $R_0$ until the energy release rate $-\partial\Pi/\partial R_1$
 # reaches zero, then free. Once the edge moves the blister grows

@@ -82,7 +82,7 @@ def check(root: Path) -> list[str]:
             for name, relative in (("front.png", "index.html"), ("demo.png", DEMO_SHOT)):
                 page.goto(base + relative, wait_until="load")
                 _typeset(page)
-                page.screenshot(path=str(shots / name), full_page=False)
+                page.screenshot(path=str(shots / name), full_page=name == "front.png")  # the gallery too
             browser.close()
     finally:
         server.shutdown()
