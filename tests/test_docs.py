@@ -37,18 +37,9 @@ def help_entries(text: str) -> dict[str, str]:
 
 def help_text(scene: str) -> str:
     """What ``bcfem run SCENE --help`` prints, unwrapped (argparse's print_help is format_help)."""
-    import os
-
-
-    parsers = bcfem_pages.scene_parsers()
-    os.environ["COLUMNS"], old = "100000", os.environ.get("COLUMNS")
-    try:
-        return parsers[scene].format_help()
-    finally:
-        if old is None:
-            del os.environ["COLUMNS"]
-        else:
-            os.environ["COLUMNS"] = old
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("COLUMNS", "100000")
+        return SCENES[scene].format_help()
 
 
 def test_the_help_is_the_commands():
@@ -77,13 +68,13 @@ def test_a_demo_page_quotes_the_numbers_its_run_wrote(tmp_path):
 
     demo = bcfem_pages.ROOT / "demos" / "blister_adhesive.py"
     summary = json.loads((bcfem_pages.ROOT / "docs" / "figures" / "blister_adhesive" / "summary.json").read_text())
-    page = bcfem_pages.notebook_page(demo, "demos")
+    page = bcfem_pages.notebook_page(demo)
     assert "{{" not in page
     onset = summary["dissertation_comparison"]["Vc_neo-hookean"]["ours"]
     assert f"{onset:.3f} (neo-Hookean)" in page
-    tutorial = bcfem_pages.notebook_page(bcfem_pages.ROOT / "tutorials" / "add_a_term.py", "tutorials")
+    tutorial = bcfem_pages.notebook_page(bcfem_pages.ROOT / "tutorials" / "add_a_term.py")
     assert "{py:obj}`bcfem.Term`" in tutorial, "a public name in the prose links to the API reference"
     broken = tmp_path / "blister_adhesive.py"
     broken.write_text(demo.read_text().replace("Vc_neo-hookean.ours", "Vc_neo-hookean.missing", 1))
     with pytest.raises(KeyError, match="blister_adhesive.py: the prose quotes"):
-        bcfem_pages.notebook_page(broken, "demos")
+        bcfem_pages.notebook_page(broken)

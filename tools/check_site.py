@@ -22,8 +22,6 @@ import threading
 from pathlib import Path
 from urllib.parse import urldefrag, urljoin, urlparse
 
-SCENES = ("blister-rigid", "blister-3d", "blister-soft", "crater", "crater-cell", "crater-sector",
-          "crater-double", "droplet-soft")
 DEMO_SHOT = "_generated/demos/blister_adhesive.html"
 #: MathJax typesets a page's equations after it loads; wait this long at most [ms]
 TYPESET_MS = 60_000
@@ -139,8 +137,10 @@ def _equations(page, relative: str) -> list[str]:
 
 
 def _search(page, base: str) -> list[str]:
+    from bcfem.scenes import REGISTRY
+
     out = []
-    for scene in SCENES:
+    for scene in REGISTRY:
         page.goto(f"{base}search.html?q={scene}", wait_until="load")
         try:
             page.wait_for_selector(f"#search-results a[href*='scenes/{scene}.html']", timeout=20_000)

@@ -54,11 +54,12 @@ def scene_page(name: str, parser: argparse.ArgumentParser) -> str:
     module = REGISTRY[name]
     package = module.__name__
     stages = getattr(module.build(module.Params(), MPI.COMM_SELF), "stages", ())
-    lines = [f"# `{name}`", "", f"{escape(module.SUMMARY)[0].upper()}{escape(module.SUMMARY)[1:]}.", "",
+    summary = escape(module.SUMMARY)
+    lines = [f"# `{name}`", "", f"{summary[0].upper()}{summary[1:]}.", "",
              f"`bcfem run {name} --help` prints this page's model, parameters and columns; "
              f"the scene's code is {{py:mod}}`{package}`.", "",
              "## The model", "", "```text", module.DESCRIPTION, "```", "",
-             "## Its energy", "", "```{eval-rst}", f".. automodule:: {model_module(package)}", "   :no-members:",
+             "## Its energy", "", "```{eval-rst}", f".. automodule:: {model_module(module)}", "   :no-members:",
              "```", "",
              "## Stages", "",
              "With the default parameters the run goes through the stages "
@@ -74,11 +75,7 @@ def scene_page(name: str, parser: argparse.ArgumentParser) -> str:
               "`fields.bp` (VTX) and the scene's PNGs, as every run writes them (the README's "
               "*What a run writes*). The columns of `branch.csv`:", "",
               "| column | unit | meaning |", "|---|---|---|"]
-    for column in module.COLUMNS:
-        if isinstance(column, str):
-            lines.append(f"| `{column}` | | |")
-        else:
-            lines.append(f"| `{column.name}` | {escape(column.unit)} | {escape(column.meaning)} |")
+    lines += [f"| `{c.name}` | {escape(c.unit)} | {escape(c.meaning)} |" for c in module.COLUMNS]
     slug = BENCHMARK.get(name, name)
     plot = ROOT / "docs" / "benchmarks" / f"{slug}.png"
     if plot.exists():
@@ -88,13 +85,10 @@ def scene_page(name: str, parser: argparse.ArgumentParser) -> str:
     return "\n".join(lines) + "\n"
 
 
-def model_module(package: str) -> str:
-    """The module whose docstring states a scene's energy: its ``model``, else the scene's own."""
-    import importlib
-
-    module = importlib.import_module(package)
-    return f"{package}.model" if hasattr(module, "__path__") and (Path(module.__path__[0]) / "model.py").exists() \
-        else package
+def model_module(module) -> str:
+    """The module whose docstring states a scene's energy: its package's ``model``, else its own."""
+    paths = getattr(module, "__path__", [])
+    return f"{module.__name__}.model" if paths and (Path(paths[0]) / "model.py").exists() else module.__name__
 
 
 def figures_of(stem: str) -> list[Path]:
@@ -106,7 +100,7 @@ def figures_of(stem: str) -> list[Path]:
     return found
 
 
-def notebook_page(source: Path, kind: str) -> str:
+def notebook_page(source: Path) -> str:
     """A demo's or tutorial's page: its markdown cells as prose, its code cells as code, then its
     committed figures. In the prose, ``{{ a.b.c:fmt }}`` is the value at a.b.c of the demo's
     ``summary.json`` (``docs/figures/<demo>/``), formatted by ``fmt`` (default ``.4g``), so that a
@@ -128,8 +122,8 @@ def notebook_page(source: Path, kind: str) -> str:
         else:
             parts.append(f"```python\n{text}\n```")
     relative = source.relative_to(ROOT)
-    parts.append(f"Run it: `python {relative} --help` for its flags; every demo also runs under "
-                 f"`mpirun -n 2`. The source: `{relative}`.")
+    if source.parent.name == "demos":  # a tutorial says how to run it
+        parts.append(f"Run it: `python {relative}` (`--help` lists its flags; it also runs under `mpirun -n 2`).")
     shown = figures_of(source.stem)
     if shown:
         parts.append("## Figures\n\nAs `make report` draws them (`docs/figures/`):")
@@ -158,18 +152,16 @@ def _api_link(match: re.Match) -> str:
     return f"{{py:obj}}`bcfem.{name}`" if name in bcfem.__all__ else match.group(0)
 
 
-def write_pages(docs: Path) -> dict[str, list[str]]:
-    """Write every generated page; returns the page names by section."""
+def write_pages(docs: Path) -> None:
+    """Write every generated page, and remove those of scenes, demos or tutorials that are gone."""
     out = docs / GENERATED
-    written: dict[str, list[str]] = {"scenes": [], "demos": [], "tutorials": []}
-    for name, parser in scene_parsers().items():
-        _write(out / "scenes" / f"{name}.md", scene_page(name, parser))
-        written["scenes"].append(name)
+    pages = {out / "scenes" / f"{name}.md": scene_page(name, parser) for name, parser in scene_parsers().items()}
     for kind in ("demos", "tutorials"):
-        for source in sorted((ROOT / kind).glob("[!_]*.py")):
-            _write(out / kind / f"{source.stem}.md", notebook_page(source, kind))
-            written[kind].append(source.stem)
-    return written
+        pages |= {out / kind / f"{s.stem}.md": notebook_page(s) for s in sorted((ROOT / kind).glob("[!_]*.py"))}
+    for stale in set(out.glob("*/*.md")) - set(pages):
+        stale.unlink()
+    for path, text in pages.items():
+        _write(path, text)
 
 
 def _write(path: Path, text: str) -> None:
