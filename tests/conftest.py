@@ -11,6 +11,7 @@ import gc
 
 from mpi4py import MPI
 
+import cores
 import pytest
 
 import bcfem  # noqa: F401
@@ -23,6 +24,14 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if "serial" in item.keywords:
             item.add_marker(skip)
+
+
+@pytest.fixture(autouse=True)
+def _hold_a_core():
+    """Under tools/test-halves.sh: this half's core while the test runs (see tests/cores.py)."""
+    cores.take_own()
+    yield
+    cores.release()
 
 
 @pytest.fixture(autouse=True)

@@ -8,10 +8,20 @@ import sys
 import time
 from pathlib import Path
 
+import cores
 import numpy as np
 from scipy.optimize import brentq
 
 BIN = Path(sys.executable).parent
+
+
+def on_ranks(cmd: list[str], ranks: int) -> list[str]:
+    """``cmd`` under ``mpirun -n ranks`` if ranks > 1; the test then holds every core until it
+    ends (``tests/cores.py``)."""
+    if ranks == 1:
+        return cmd
+    cores.take_all()
+    return [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
 
 
 def rows_on_disk(out) -> list[dict]:
@@ -26,9 +36,7 @@ def killed(args, out, after: int, ranks: int = 1, rank: int | None = None) -> in
     ``branch.csv`` holds ``after`` rows; returns the rows on disk then."""
     from test_run_contract import rank_pids
 
-    cmd = [str(BIN / "bcfem"), *map(str, args), "--out", str(out)]
-    if ranks > 1:
-        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    cmd = on_ranks([str(BIN / "bcfem"), *map(str, args), "--out", str(out)], ranks)
     env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}"}
     process = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
     deadline = time.monotonic() + 300
@@ -48,9 +56,7 @@ def killed(args, out, after: int, ranks: int = 1, rank: int | None = None) -> in
 def bcfem(*args, ranks: int = 1, timeout: float = 600, env: dict | None = None) -> subprocess.CompletedProcess:
     """``bcfem ARGS`` (under ``mpirun -n ranks`` if ranks > 1), with the venv's bin on PATH and
     ``env`` added to the environment."""
-    cmd = [str(BIN / "bcfem"), *map(str, args)]
-    if ranks > 1:
-        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    cmd = on_ranks([str(BIN / "bcfem"), *map(str, args)], ranks)
     full = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}", **(env or {})}
     return subprocess.run(cmd, capture_output=True, text=True, env=full, timeout=timeout)
 

@@ -19,6 +19,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import on_ranks
 from test_summary_schema import SCHEMA
 
 pytestmark = pytest.mark.serial
@@ -42,9 +43,7 @@ TIMEOUT = 600  # [s]; a deadlock at exit shows up as a timeout, not a hang
 
 
 def run_demo(demo: Path, out: Path, ranks: int, *flags: str) -> subprocess.CompletedProcess:
-    cmd = [sys.executable, str(demo), "--out", str(out), *flags]
-    if ranks > 1:
-        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    cmd = on_ranks([sys.executable, str(demo), "--out", str(out), *flags], ranks)
     env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ.get('PATH', '')}"}
     return subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=out.parent,
                           timeout=TIMEOUT)

@@ -16,7 +16,7 @@ from mpi4py import MPI
 
 import numpy as np
 import pytest
-from helpers import BIN, bcfem
+from helpers import BIN, bcfem, on_ranks
 
 from bcfem import interrupt, io
 from bcfem.run import sweep
@@ -65,9 +65,7 @@ def signalled(argv, out, signum, pattern, ranks=1, meanwhile=None, rank=None) ->
     """Run ``bcfem argv --out out``; once stderr has a line matching ``pattern`` (an accepted
     state), call ``meanwhile()``, send ``signum`` (to mpirun for ranks > 1, or to ``rank``
     alone); (exit code, stderr)."""
-    cmd = [str(BIN / "bcfem"), *argv, "--out", str(out)]
-    if ranks > 1:
-        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    cmd = on_ranks([str(BIN / "bcfem"), *argv, "--out", str(out)], ranks)
     env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ['PATH']}"}
     process = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     seen = []

@@ -8,7 +8,7 @@ from mpi4py import MPI
 
 import numpy as np
 import pytest
-from helpers import bcfem, refused
+from helpers import bcfem, on_ranks, refused
 
 from bcfem.run import sweep
 from bcfem.scenes import blister_rigid, blister_studies
@@ -118,12 +118,10 @@ def _on_two_ranks(script_text: str, tmp_path):
     JSON of its last line of output."""
     import subprocess
     import sys
-    from pathlib import Path
 
     script = tmp_path / "script.py"
     script.write_text(script_text)
-    mpirun = Path(sys.executable).parent / "mpirun"
-    res = subprocess.run([str(mpirun), "-n", "2", sys.executable, str(script), str(tmp_path / "out")],
+    res = subprocess.run(on_ranks([sys.executable, str(script), str(tmp_path / "out")], 2),
                          capture_output=True, text=True, timeout=300)
     assert res.returncode == 0, res.stderr
     return json.loads(res.stdout.strip().splitlines()[-1])

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import on_ranks
 
 pytestmark = pytest.mark.serial
 
@@ -18,9 +19,7 @@ TUTORIALS = sorted((Path(__file__).resolve().parents[1] / "tutorials").glob("*.p
 @pytest.mark.parametrize("ranks", [1, 2])
 @pytest.mark.parametrize("tutorial", TUTORIALS, ids=lambda p: p.stem)
 def test_a_tutorial_meets_its_closed_forms(tutorial, ranks, tmp_path):
-    cmd = [sys.executable, str(tutorial)]
-    if ranks > 1:
-        cmd = [str(BIN / "mpirun"), "-n", str(ranks), *cmd]
+    cmd = on_ranks([sys.executable, str(tutorial)], ranks)
     env = {**os.environ, "PATH": f"{BIN}{os.pathsep}{os.environ.get('PATH', '')}"}
     res = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=tmp_path, timeout=600)
     assert res.returncode == 0, f"{tutorial.name}:\n{res.stdout[-3000:]}\n{res.stderr[-3000:]}"
