@@ -171,3 +171,19 @@ def test_a_kept_preconditioner_is_set_up_again_when_it_stops_serving():
         assert not refresh.due()
         refresh.skip()
     assert refresh.due()  # the limit of skips in a row
+
+
+def test_the_users_eigensolver_options_win():
+    """``-<prefix>eps_max_it 1`` reaches the count's eigensolver: one iteration finds nothing."""
+    prefix = "bcfem_test_spectrum_options_"
+    options = PETSc.Options()
+    options[prefix + "eps_max_it"] = 1
+    spectrum = SchurSpectrum(MPI.COMM_SELF, prefix=prefix)
+    M, _, multipliers = saddle(MPI.COMM_SELF, -1.0)
+    try:
+        with pytest.raises(RuntimeError, match="in 1 iterations"):
+            spectrum.negative(M, np.empty(0, PETSc.IntType), multipliers.astype(PETSc.IntType))
+    finally:
+        options.delValue(prefix + "eps_max_it")
+        spectrum.close()
+        M.destroy()

@@ -91,7 +91,8 @@ def spectrum_count(problem, jacobian: PETSc.Mat, rows: np.ndarray) -> int | None
 
     split = problem.field_split
     spectrum = problem.kept("tangent_spectrum", lambda: SchurSpectrum(
-        problem.snes.comm, lambda: fieldsplit.reduced_inner_ksp(problem, split)))
+        problem.snes.comm, lambda: fieldsplit.reduced_inner_ksp(problem, split),
+        prefix=problem.prefix + "spectrum_"))
     if spectrum.unsupported:
         return None
     names = [n for n in problem.multipliers if n in problem.names]

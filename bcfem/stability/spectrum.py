@@ -63,11 +63,13 @@ class SchurSpectrum:
         inner_rtol, inner_its: the Krylov solve of the preconditioner. The eigensolver
             needs it accurate: at 1e-3 it stalls on a nearly incompressible cell, at 1e-5
             it converges as with an exact inverse.
+        prefix: the eigensolver's options prefix: ``-<prefix>eps_...`` override the above.
     """
 
     def __init__(self, comm, preconditioner: Callable[[], PETSc.KSP] | None = None,
-                 tol: float = 1e-3, inner_rtol: float = 1e-5, inner_its: int = 100):
+                 tol: float = 1e-3, inner_rtol: float = 1e-5, inner_its: int = 100, prefix: str = ""):
         self.comm = comm
+        self.prefix = prefix
         self._mpi = comm.tompi4py() if isinstance(comm, PETSc.Comm) else comm
         self._make_preconditioner = preconditioner
         self._preconditioner: PETSc.KSP | None = None
@@ -214,6 +216,8 @@ class SchurSpectrum:
             pc = ksp.getPC()
             pc.setType("python")
             pc.setPythonContext(inverse)
+            eps.setOptionsPrefix(self.prefix)
+            eps.setFromOptions()  # the user's options win
             if self._vectors:
                 eps.setInitialSpace(self._vectors)
             eps.solve()
