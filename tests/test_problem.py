@@ -281,6 +281,35 @@ def test_the_residual_is_lifted_only_where_x_is_off_its_dirichlet_values():
         assert np.allclose(state[dofs], value, rtol=0, atol=1e-15)
 
 
+def test_only_the_conditions_x_misses_lift_the_residual():
+    """A bar held at both ends, the right end moved: the residual lifted by the right end alone
+    is dolfinx's, lifted by both; the held end is left out of the lifting."""
+    from dolfinx.fem.petsc import assemble_residual
+
+    msh = mesh.create_unit_interval(MPI.COMM_WORLD, 16)
+    V = fem.functionspace(msh, ("Lagrange", 2))
+    held, moved = fem.Function(V), fem.Function(V)
+    ends = [fem.dirichletbc(g, fem.locate_dofs_geometrical(V, lambda x, at=at: np.isclose(x[0], at)))
+            for g, at in ((held, 0.0), (moved, 1.0))]
+    ctx = Context(fem.Function(V))
+    with Problem(ctx, [Anharmonic()], ends, "bcfem_test_lift_two_", TIGHT) as problem:
+        x = problem.vector_from(problem.states)
+        moved.x.array[:] = 0.4
+        assert problem.assembly.unlifted.missed(x) == [ends[1]]
+        ours, theirs = problem.new_vector(), problem.new_vector()
+        problem.snes.computeFunction(x, ours)
+        kargs = problem.assembly._kargs
+        assemble_residual(problem.snes, x, theirs, kargs["u"], kargs["residual"], kargs["jacobian"], ends,
+                          kargs["_blocks"])
+        assert ours.norm() > 0.1
+        theirs.axpy(-1.0, ours)
+        assert theirs.norm() <= 1e-14 * ours.norm()
+        assert problem.solve()
+        x = problem.vector_from(problem.states)
+        assert problem.assembly.unlifted.missed(x) == []
+        assert problem.assembly.liftings == 2  # the one above and the solve's first residual
+
+
 class SymmetricSilent(Silent):
     """A silent discrete term that declares its (zero) tangent symmetric, but no tangent key."""
 

@@ -1,7 +1,7 @@
 """The SNES callbacks of a problem: dolfinx's forms, then the discrete terms, both timed.
 
 Two shortcuts keep work out of the Newton loop, and neither changes a number: the residual is
-assembled without dolfinx's lifting where the iterate meets its Dirichlet values
+lifted only by the Dirichlet conditions whose values the iterate misses
 (:mod:`bcfem.solver.unlifted`), and a Jacobian already assembled at the same state is not assembled
 again (:mod:`bcfem.solver.tangent_memo`).
 """
@@ -29,8 +29,7 @@ class Assembly:
         A, P, (self._jacobian, self._jargs, self._jkargs) = snes.getJacobian()
         self.unlifted = UnliftedResidual(b, **self._kargs) if b.getAttr("_blocks") is not None else None
         self.memo = TangentMemo(residuals, problem.states, problem.discrete, problem.comm)
-        #: residuals assembled with dolfinx's lifting (x off its Dirichlet values)
-        self.liftings = 0
+        self._liftings = 0  # residuals of dolfinx's own, all lifted
         #: tangents assembled (not those the memo found held already)
         self.tangents = 0
         snes.setFunction(self.function, b)
@@ -44,9 +43,9 @@ class Assembly:
 
     def function(self, snes, x, f) -> None:
         t0 = perf_counter()
-        if self.unlifted is None or self.unlifted.lifting_needed(x):
+        if self.unlifted is None:
             self._residual(snes, x, f, *self._args, **self._kargs)
-            self.liftings += 1
+            self._liftings += 1
         else:
             self.unlifted(x, f)
         t1 = perf_counter()
@@ -69,6 +68,11 @@ class Assembly:
             raise
         self.tangents += 1
         self._count(t0, t1)
+
+    @property
+    def liftings(self) -> int:
+        """Residuals lifted (x off some Dirichlet values)."""
+        return self._liftings + (self.unlifted.liftings if self.unlifted is not None else 0)
 
     def destroy(self) -> None:
         """Free the work vector (collective); the SNES keeps the callbacks."""
