@@ -22,9 +22,9 @@ class UnliftedResidual:
     def __init__(self, b: PETSc.Vec, u, residual, jacobian, bcs, _blocks):
         self.u, self.forms, self.jacobian, self.blocks = u, residual, jacobian, _blocks
         self.conditions = list(bcs)
-        self.spaces = fem.extract_function_spaces(residual)
-        assert isinstance(self.spaces, list), "a blocked residual has a space per block"
-        self.trial_spaces = fem.extract_function_spaces(jacobian, 1)
+        spaces, trial_spaces = fem.extract_function_spaces(residual), fem.extract_function_spaces(jacobian, 1)
+        assert isinstance(spaces, list) and isinstance(trial_spaces, list), "a blocked problem has a space per block"
+        self.spaces, self.trial_spaces = spaces, trial_spaces
         self.bcs = fem.bcs_by_block(self.spaces, bcs)
         self.misfit = b.duplicate()
         self.misfit.setAttr("_blocks", _blocks)
