@@ -29,7 +29,8 @@ class Assembly:
         A, P, (self._jacobian, self._jargs, self._jkargs) = snes.getJacobian()
         self.unlifted = UnliftedResidual(b, **self._kargs) if b.getAttr("_blocks") is not None else None
         self.memo = TangentMemo(residuals, problem.states, problem.discrete, problem.comm)
-        self._liftings = 0  # residuals of dolfinx's own, all lifted
+        #: residuals lifted (x off some Dirichlet values)
+        self.liftings = 0
         #: tangents assembled (not those the memo found held already)
         self.tangents = 0
         snes.setFunction(self.function, b)
@@ -45,9 +46,9 @@ class Assembly:
         t0 = perf_counter()
         if self.unlifted is None:
             self._residual(snes, x, f, *self._args, **self._kargs)
-            self._liftings += 1
+            self.liftings += 1
         else:
-            self.unlifted(x, f)
+            self.liftings += self.unlifted(x, f)
         t1 = perf_counter()
         for term in self.problem.discrete:
             term.add_residual(f)
@@ -68,11 +69,6 @@ class Assembly:
             raise
         self.tangents += 1
         self._count(t0, t1)
-
-    @property
-    def liftings(self) -> int:
-        """Residuals lifted (x off some Dirichlet values)."""
-        return self._liftings + (self.unlifted.liftings if self.unlifted is not None else 0)
 
     def destroy(self) -> None:
         """Free the work vector (collective); the SNES keeps the callbacks."""

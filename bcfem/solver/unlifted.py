@@ -21,15 +21,13 @@ class UnliftedResidual:
 
     def __init__(self, b: PETSc.Vec, u, residual, jacobian, bcs, _blocks):
         self.u, self.forms, self.jacobian, self.blocks = u, residual, jacobian, _blocks
-        self.conditions = list(bcs)
         spaces, trial_spaces = fem.extract_function_spaces(residual), fem.extract_function_spaces(jacobian, 1)
         assert isinstance(spaces, list) and isinstance(trial_spaces, list), "a blocked problem has a space per block"
         self.spaces, self.trial_spaces = spaces, trial_spaces
         self.bcs = fem.bcs_by_block(self.spaces, bcs)
+        self._each = [(bc, fem.bcs_by_block(self.spaces, [bc])) for bc in bcs]  # one condition by block
         self.misfit = b.duplicate()
         self.misfit.setAttr("_blocks", _blocks)
-        #: residuals lifted (by some condition)
-        self.liftings = 0
 
     def missed(self, x: PETSc.Vec) -> list[fem.DirichletBC]:
         """The conditions whose dofs x misses by more than round-off (the same on every rank:
@@ -37,14 +35,15 @@ class UnliftedResidual:
         x.setAttr("_blocks", self.blocks)
         scale = max(1.0, x.norm(PETSc.NormType.INFINITY))
         missed = []
-        for bc in self.conditions:
+        for bc, by_block in self._each:
             self.misfit.zeroEntries()
-            set_bc(self.misfit, fem.bcs_by_block(self.spaces, [bc]), x0=x, alpha=-1.0)  # x - g on its dofs
+            set_bc(self.misfit, by_block, x0=x, alpha=-1.0)  # x - g on its dofs
             if self.misfit.norm(PETSc.NormType.INFINITY) > 1e-14 * scale:
                 missed.append(bc)
         return missed
 
-    def __call__(self, x: PETSc.Vec, b: PETSc.Vec) -> None:
+    def __call__(self, x: PETSc.Vec, b: PETSc.Vec) -> bool:
+        """b = the residual at x; whether it was lifted (by some condition)."""
         missed = self.missed(x)
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         assign(x, self.u)
@@ -53,11 +52,11 @@ class UnliftedResidual:
             local.set(0.0)
         assemble_vector(b, self.forms)
         if missed:
-            self.liftings += 1
             apply_lifting(b, self.jacobian, bcs=fem.bcs_by_block(self.trial_spaces, missed), x0=x, alpha=-1.0)
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         set_bc(b, self.bcs, x0=x, alpha=-1.0)
         b.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        return bool(missed)
 
     def destroy(self) -> None:
         self.misfit.destroy()
